@@ -1,0 +1,90 @@
+#include "slamkit/core/pose_graph_error.h"
+
+#include "slamkit/core/error.h"
+
+namespace slamkit {
+
+Eigen::Vector3d pose2_edge_error(const SE2& Z, const SE2& Xi, const SE2& Xj, Eigen::Matrix3d* J_e_Xi,
+                                 Eigen::Matrix3d* J_e_Xj) {
+  const SE2 A = Xi.between(Xj);
+  const SE2 E = Z.between(A);
+  if (J_e_Xi || J_e_Xj) {
+    Eigen::Matrix3d J_E = Eigen::Matrix3d::Identity();
+    J_E.topLeftCorner<2, 2>() = E.rotation().matrix();
+    if (J_e_Xj) *J_e_Xj = J_E;
+    if (J_e_Xi) *J_e_Xi = -J_E * A.inverse().adjoint();
+  }
+  return Eigen::Vector3d(E.x(), E.y(), E.theta());
+}
+
+Vector6d pose3_edge_error(const SE3& Z, const SE3& Xi, const SE3& Xj, Matrix6d* J_e_Xi, Matrix6d* J_e_Xj) {
+  const SE3 A = Xi.between(Xj);
+  const SE3 E = Z.between(A);
+  const Eigen::Quaterniond& q = E.rotation().quaternion();
+  const double s = q.w() < 0.0 ? -1.0 : 1.0;  // g2o normalizes to w ≥ 0
+  Vector6d e;
+  e << E.translation(), s * q.vec();
+  if (J_e_Xi || J_e_Xj) {
+    // ∂ vec(q ⊗ (1, φ/2)) / ∂φ = ½ (w I + [v]×)
+    Matrix6d J_E = Matrix6d::Zero();
+    J_E.topLeftCorner<3, 3>() = E.rotation().matrix();
+    J_E.bottomRightCorner<3, 3>() = 0.5 * s * (q.w() * Eigen::Matrix3d::Identity() + skew(q.vec()));
+    if (J_e_Xj) *J_e_Xj = J_E;
+    if (J_e_Xi) *J_e_Xi = -J_E * A.inverse().adjoint();
+  }
+  return e;
+}
+
+Eigen::Vector2d pose2_point_error(const Eigen::Vector2d& z, const SE2& X, const Eigen::Vector2d& p,
+                                  Eigen::Matrix<double, 2, 3>* J_e_X, Eigen::Matrix2d* J_e_p) {
+  const Eigen::Matrix2d Rt = X.rotation().matrix().transpose();
+  const Eigen::Vector2d local = Rt * (p - X.translation());
+  // (X Exp δ)⁻¹ p ≈ local − ρ − δθ [1]× local
+  if (J_e_X) *J_e_X << -1.0, 0.0, local.y(), 0.0, -1.0, -local.x();
+  if (J_e_p) *J_e_p = Rt;
+  return local - z;
+}
+
+Eigen::Vector3d pose3_point_error(const Eigen::Vector3d& z, const SE3& X, const SE3& offset,
+                                  const Eigen::Vector3d& p, Eigen::Matrix<double, 3, 6>* J_e_X,
+                                  Eigen::Matrix3d* J_e_p) {
+  const Eigen::Matrix3d Rxt = X.rotation().matrix().transpose();
+  const Eigen::Matrix3d Rot = offset.rotation().matrix().transpose();
+  const Eigen::Vector3d q = Rxt * (p - X.translation());  // X⁻¹ p
+  // (X Exp δ O)⁻¹ p = O⁻¹ Exp(−δ) q ≈ O⁻¹ (q − ρ + [q]× φ)
+  if (J_e_X) {
+    J_e_X->leftCols<3>() = -Rot;
+    J_e_X->rightCols<3>() = Rot * skew(q);
+  }
+  if (J_e_p) *J_e_p = Rot * Rxt;
+  return Rot * (q - offset.translation()) - z;
+}
+
+Eigen::VectorXd edge_error(const PoseGraph& g, const GraphEdge& e) {
+  const GraphVertex& a = g.vertex(e.from);
+  const GraphVertex& b = g.vertex(e.to);
+  switch (e.kind) {
+    case EdgeKind::kPose2Pose2: return pose2_edge_error(e.pose2, a.pose2, b.pose2);
+    case EdgeKind::kPose3Pose3: return pose3_edge_error(e.pose3, a.pose3, b.pose3);
+    case EdgeKind::kPose2Point2: return pose2_point_error(e.point.head<2>(), a.pose2, b.point.head<2>());
+    case EdgeKind::kPose3Point3: {
+      const auto it = g.sensor_offsets.find(e.sensor_offset_id);
+      const SE3 offset = it == g.sensor_offsets.end() ? SE3() : it->second;
+      return pose3_point_error(e.point, a.pose3, offset, b.point);
+    }
+  }
+  throw InputError(g.source, e.line, "", "unknown edge kind");
+}
+
+double edge_chi2(const PoseGraph& g, const GraphEdge& e) {
+  const Eigen::VectorXd r = edge_error(g, e);
+  return r.dot(e.information * r);
+}
+
+double total_chi2(const PoseGraph& g) {
+  double chi2 = 0.0;
+  for (const auto& e : g.edges) chi2 += edge_chi2(g, e);
+  return chi2;
+}
+
+}  // namespace slamkit
