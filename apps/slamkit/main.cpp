@@ -1,9 +1,29 @@
+// slamkit: the command-line front end. Exit codes: 0 success, 1 error in the input or the
+// run (message on stderr), 2 usage error (CLI11), 3 unexpected internal error.
 #include <CLI/CLI.hpp>
+#include <exception>
 #include <iostream>
 
+#include "commands.h"
+#include "slamkit/core/error.h"
+
 int main(int argc, char** argv) {
-  CLI::App app{"slamkit: SLAM back-end toolkit"};
+  CLI::App app{"slamkit: SLAM back-end toolkit (graph optimization, filters, VIO, evaluation)"};
   app.set_version_flag("--version", std::string("slamkit ") + SLAMKIT_VERSION);
-  CLI11_PARSE(app, argc, argv);
+  app.require_subcommand(1);
+  // pose-graph tools
+  // optimizer
+  // evaluation and reports
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help and --version exit 0
+  } catch (const slamkit::Error& e) {
+    std::cerr << "slamkit: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "slamkit: internal error: " << e.what() << "\n";
+    return 3;
+  }
   return 0;
 }

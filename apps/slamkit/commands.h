@@ -1,0 +1,15 @@
+// Subcommands of the slamkit CLI, one file each (cmd_<name>.cpp). Each add_*_command
+// registers a CLI11 subcommand whose callback does the work and throws on failure
+// (slamkit::Error for user-facing problems); main() turns exceptions into a message on
+// stderr and a non-zero exit code.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace slamkit::cli {
+
+// pose-graph tools (issue: foundation)
+// optimizer (issue: graph optimization)
+// evaluation and reports (issue: trajectory evaluation)
+
+}  // namespace slamkit::cli
