@@ -1,0 +1,43 @@
+// NoiseModel: Gaussian measurement noise as a square-root information matrix.
+//
+// A residual r with covariance Σ = Ω⁻¹ is whitened to R r, where R is upper triangular
+// with RᵀR = Ω (R = Lᵀ from the Cholesky factor Ω = L Lᵀ), so that ‖R r‖² = rᵀ Ω r.
+// Unit and diagonal models whiten without a matrix product. Immutable; thread-safe.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+
+namespace slamkit {
+
+class NoiseModel {
+ public:
+  enum class Kind { kUnit, kDiagonal, kDense };
+
+  static std::shared_ptr<const NoiseModel> unit(int dim);
+  static std::shared_ptr<const NoiseModel> isotropic(int dim, double sigma);
+  static std::shared_ptr<const NoiseModel> diagonal(const Eigen::VectorXd& sigmas);
+  /// From an information matrix Ω; throws NumericalError unless Ω is symmetric positive definite.
+  static std::shared_ptr<const NoiseModel> information(const Eigen::MatrixXd& omega);
+  static std::shared_ptr<const NoiseModel> covariance(const Eigen::MatrixXd& sigma);
+
+  Kind kind() const { return kind_; }
+  int dim() const { return dim_; }
+  /// R with RᵀR = Ω (dense upper triangular; diagonal for kDiagonal, identity for kUnit).
+  Eigen::MatrixXd sqrt_information() const;
+  Eigen::MatrixXd information_matrix() const;
+
+  /// r ← R r (length dim).
+  void whiten(double* r) const;
+  /// J ← R J for a column-major dim × cols block.
+  void whiten_jacobian(double* J, int cols) const;
+
+ private:
+  NoiseModel(Kind kind, int dim) : kind_(kind), dim_(dim) {}
+  Kind kind_;
+  int dim_;
+  Eigen::VectorXd diag_;   // kDiagonal: 1/σ
+  Eigen::MatrixXd upper_;  // kDense: R
+};
+
+}  // namespace slamkit

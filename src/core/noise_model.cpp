@@ -1,0 +1,97 @@
+#include "slamkit/core/noise_model.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <string>
+
+#include "slamkit/core/error.h"
+
+namespace slamkit {
+
+std::shared_ptr<const NoiseModel> NoiseModel::unit(int dim) {
+  return std::shared_ptr<const NoiseModel>(new NoiseModel(Kind::kUnit, dim));
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::isotropic(int dim, double sigma) {
+  return diagonal(Eigen::VectorXd::Constant(dim, sigma));
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::diagonal(const Eigen::VectorXd& sigmas) {
+  if (!(sigmas.array() > 0.0).all() || !sigmas.allFinite())
+    throw NumericalError("NoiseModel::diagonal: sigmas must be positive and finite");
+  auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDiagonal, static_cast<int>(sigmas.size())));
+  m->diag_ = sigmas.cwiseInverse();
+  return m;
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd& omega) {
+  const int n = static_cast<int>(omega.rows());
+  if (omega.cols() != n || !omega.allFinite())
+    throw NumericalError("NoiseModel::information: matrix is not square or not finite");
+  const double scale = omega.cwiseAbs().maxCoeff();
+  if ((omega - omega.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
+    throw NumericalError("NoiseModel::information: matrix is not symmetric");
+  // Diagonal information: no dense whitening needed.
+  const Eigen::MatrixXd off = omega - Eigen::MatrixXd(omega.diagonal().asDiagonal());
+  if (off.cwiseAbs().maxCoeff() == 0.0) {
+    if (!(omega.diagonal().array() > 0.0).all())
+      throw NumericalError("NoiseModel::information: matrix is not positive definite");
+    auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDiagonal, n));
+    m->diag_ = omega.diagonal().cwiseSqrt();
+    return m;
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(omega);
+  if (llt.info() != Eigen::Success || !(llt.matrixL().toDenseMatrix().diagonal().array() > 0.0).all())
+    throw NumericalError("NoiseModel::information: matrix is not positive definite");
+  auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDense, n));
+  m->upper_ = llt.matrixU();
+  return m;
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::covariance(const Eigen::MatrixXd& sigma) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(sigma);
+  if (llt.info() != Eigen::Success) throw NumericalError("NoiseModel::covariance: not positive definite");
+  return information(llt.solve(Eigen::MatrixXd::Identity(sigma.rows(), sigma.cols())));
+}
+
+Eigen::MatrixXd NoiseModel::sqrt_information() const {
+  switch (kind_) {
+    case Kind::kUnit: return Eigen::MatrixXd::Identity(dim_, dim_);
+    case Kind::kDiagonal: return diag_.asDiagonal();
+    case Kind::kDense: return upper_;
+  }
+  return {};
+}
+
+Eigen::MatrixXd NoiseModel::information_matrix() const {
+  const Eigen::MatrixXd R = sqrt_information();
+  return R.transpose() * R;
+}
+
+namespace {
+// v ← R v in place for upper-triangular R: row i reads only v[k ≥ i], which later rows
+// (i' > i) never overwrite before use. No temporaries, no allocation.
+inline void upper_times_in_place(const Eigen::MatrixXd& R, double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    double s = 0.0;
+    for (int k = i; k < n; ++k) s += R(i, k) * v[k];
+    v[i] = s;
+  }
+}
+}  // namespace
+
+void NoiseModel::whiten(double* r) const {
+  switch (kind_) {
+    case Kind::kUnit: return;
+    case Kind::kDiagonal:
+      for (int i = 0; i < dim_; ++i) r[i] *= diag_[i];
+      return;
+    case Kind::kDense: upper_times_in_place(upper_, r, dim_); return;
+  }
+}
+
+void NoiseModel::whiten_jacobian(double* J, int cols) const {
+  for (int c = 0; c < cols; ++c) whiten(J + static_cast<std::ptrdiff_t>(c) * dim_);
+}
+
+}  // namespace slamkit

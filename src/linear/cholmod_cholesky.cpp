@@ -1,0 +1,193 @@
+// CHOLMOD backend of SparseCholesky. The fill-reducing ordering is computed on the block
+// graph (n_blocks nodes instead of n scalars: cheaper and, for uniform blocks, the same
+// quality), expanded to scalars, and given to CHOLMOD's symbolic analysis; CHOLMOD then
+// postorders it and chooses supernodes. Numeric factorizations reuse that analysis.
+#include <cholmod.h>
+#include <dlfcn.h>
+
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "slamkit/core/error.h"
+#include "sparse_cholesky_backends.h"
+
+namespace slamkit {
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// OpenBLAS's thread count, if the BLAS behind libblas.so.3 is OpenBLAS.
+void set_blas_threads(int threads) {
+  if (threads <= 0) return;
+  using SetThreads = void (*)(int);
+  if (auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(threads);
+}
+
+cholmod_sparse wrap_upper(int n, const std::vector<int>& col_ptr, const std::vector<int>& rows, double* values) {
+  cholmod_sparse A;
+  std::memset(&A, 0, sizeof(A));
+  A.nrow = A.ncol = static_cast<size_t>(n);
+  A.nzmax = rows.size();
+  A.p = const_cast<int*>(col_ptr.data());
+  A.i = const_cast<int*>(rows.data());
+  A.x = values;
+  A.stype = 1;  // symmetric, upper triangle used
+  A.itype = CHOLMOD_INT;
+  A.xtype = values ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
+
+cholmod_dense wrap_dense(int rows, int cols, double* x) {
+  cholmod_dense D;
+  std::memset(&D, 0, sizeof(D));
+  D.nrow = static_cast<size_t>(rows);
+  D.ncol = static_cast<size_t>(cols);
+  D.nzmax = D.nrow * D.ncol;
+  D.d = D.nrow;
+  D.x = x;
+  D.xtype = CHOLMOD_REAL;
+  D.dtype = CHOLMOD_DOUBLE;
+  return D;
+}
+
+class CholmodCholesky final : public SparseCholesky {
+ public:
+  CholmodCholesky(OrderingMethod ordering, int blas_threads) : ordering_(ordering) {
+    cholmod_start(&c_);
+    c_.supernodal = CHOLMOD_SUPERNODAL;
+    c_.print = 0;
+    c_.error_handler = nullptr;
+    c_.quick_return_if_not_posdef = 1;
+    set_blas_threads(blas_threads);
+  }
+  ~CholmodCholesky() override {
+    if (L_) cholmod_free_factor(&L_, &c_);
+    if (X_) cholmod_free_dense(&X_, &c_);
+    if (Y_) cholmod_free_dense(&Y_, &c_);
+    if (E_) cholmod_free_dense(&E_, &c_);
+    cholmod_finish(&c_);
+  }
+
+  std::string name() const override {
+    return "CHOLMOD " + std::to_string(CHOLMOD_MAIN_VERSION) + "." + std::to_string(CHOLMOD_SUB_VERSION) + "." +
+           std::to_string(CHOLMOD_SUBSUB_VERSION) + " supernodal";
+  }
+  bool is_fallback() const override { return false; }
+
+  void analyze(const BlockSparseMatrix& A) override {
+    const double t0 = now_s();
+    if (L_) cholmod_free_factor(&L_, &c_);
+    n_ = A.rows();
+    const std::vector<int> block_perm = block_ordering(A);
+    std::vector<int> perm;
+    perm.reserve(n_);
+    for (int b : block_perm)
+      for (int r = 0; r < A.block_dim(b); ++r) perm.push_back(A.block_start(b) + r);
+    cholmod_sparse S = wrap_upper(n_, A.col_ptr(), A.row_index(), nullptr);
+    c_.nmethods = 1;
+    c_.method[0].ordering = CHOLMOD_GIVEN;
+    c_.postorder = 1;
+    L_ = cholmod_analyze_p(&S, perm.data(), nullptr, 0, &c_);
+    if (!L_ || c_.status < CHOLMOD_OK) throw NumericalError("CHOLMOD symbolic analysis failed (status " + std::to_string(c_.status) + ")");
+    stats_.factor_nnz = c_.lnz;
+    stats_.factor_flops = c_.fl;
+    stats_.analyze_time_s = now_s() - t0;
+  }
+
+  bool factorize(const BlockSparseMatrix& A) override {
+    if (!L_ || A.rows() != n_) throw std::logic_error("SparseCholesky::factorize before analyze");
+    cholmod_sparse S = wrap_upper(n_, A.col_ptr(), A.row_index(), const_cast<double*>(A.values().data()));
+    const int ok = cholmod_factorize(&S, L_, &c_);
+    return ok && c_.status == CHOLMOD_OK && L_->minor == L_->n;
+  }
+
+  void solve(const double* b, double* x) override {
+    cholmod_dense B = wrap_dense(n_, 1, const_cast<double*>(b));
+    if (!cholmod_solve2(CHOLMOD_A, L_, &B, nullptr, &X_, nullptr, &Y_, &E_, &c_))
+      throw NumericalError("CHOLMOD solve failed");
+    std::memcpy(x, X_->x, sizeof(double) * n_);
+  }
+
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& Bm) override {
+    Eigen::MatrixXd copy = Bm;
+    cholmod_dense B = wrap_dense(n_, static_cast<int>(copy.cols()), copy.data());
+    if (!cholmod_solve2(CHOLMOD_A, L_, &B, nullptr, &X_, nullptr, &Y_, &E_, &c_))
+      throw NumericalError("CHOLMOD solve failed");
+    return Eigen::Map<Eigen::MatrixXd>(static_cast<double*>(X_->x), n_, copy.cols());
+  }
+
+  double inverse_factor_norm2(const double* v) override {
+    cholmod_dense B = wrap_dense(n_, 1, const_cast<double*>(v));
+    cholmod_dense* P = nullptr;
+    if (!cholmod_solve2(CHOLMOD_P, L_, &B, nullptr, &P, nullptr, &Y_, &E_, &c_) ||
+        !cholmod_solve2(CHOLMOD_L, L_, P, nullptr, &X_, nullptr, &Y_, &E_, &c_)) {
+      if (P) cholmod_free_dense(&P, &c_);
+      throw NumericalError("CHOLMOD triangular solve failed");
+    }
+    cholmod_free_dense(&P, &c_);
+    return Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(X_->x), n_).squaredNorm();
+  }
+
+  const CholeskyStats& stats() const override { return stats_; }
+
+ private:
+  // Orders the block graph; for kAuto CHOLMOD tries AMD, METIS and NESDIS and keeps the one
+  // with the smallest factor.
+  std::vector<int> block_ordering(const BlockSparseMatrix& A) {
+    const int nb = A.num_blocks();
+    std::vector<int> perm(nb);
+    if (ordering_ == OrderingMethod::kNatural) {
+      for (int i = 0; i < nb; ++i) perm[i] = i;
+      stats_.ordering = "natural";
+      return perm;
+    }
+    cholmod_sparse G = wrap_upper(nb, A.block_column_pointers(), A.block_row_indices(), nullptr);
+    switch (ordering_) {
+      case OrderingMethod::kAmd: c_.nmethods = 1, c_.method[0].ordering = CHOLMOD_AMD; break;
+      case OrderingMethod::kMetis: c_.nmethods = 1, c_.method[0].ordering = CHOLMOD_METIS; break;
+      case OrderingMethod::kNesdis: c_.nmethods = 1, c_.method[0].ordering = CHOLMOD_NESDIS; break;
+      default:
+        c_.nmethods = 3;
+        c_.method[0].ordering = CHOLMOD_AMD;
+        c_.method[1].ordering = CHOLMOD_METIS;
+        c_.method[2].ordering = CHOLMOD_NESDIS;
+        break;
+    }
+    const int saved_supernodal = c_.supernodal;
+    c_.supernodal = CHOLMOD_SIMPLICIAL;  // only the permutation is wanted here
+    cholmod_factor* Lb = cholmod_analyze(&G, &c_);
+    c_.supernodal = saved_supernodal;
+    if (!Lb) throw NumericalError("CHOLMOD ordering failed (status " + std::to_string(c_.status) + ")");
+    std::memcpy(perm.data(), Lb->Perm, sizeof(int) * nb);
+    switch (Lb->ordering) {
+      case CHOLMOD_AMD: stats_.ordering = "AMD"; break;
+      case CHOLMOD_METIS: stats_.ordering = "METIS"; break;
+      case CHOLMOD_NESDIS: stats_.ordering = "NESDIS"; break;
+      default: stats_.ordering = "CHOLMOD method " + std::to_string(Lb->ordering); break;
+    }
+    cholmod_free_factor(&Lb, &c_);
+    return perm;
+  }
+
+  OrderingMethod ordering_;
+  cholmod_common c_;
+  cholmod_factor* L_ = nullptr;
+  cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;
+  int n_ = 0;
+  CholeskyStats stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<SparseCholesky> make_cholmod_cholesky(OrderingMethod ordering, int blas_threads) {
+  return std::make_unique<CholmodCholesky>(ordering, blas_threads);
+}
+
+}  // namespace slamkit

@@ -1,0 +1,211 @@
+#include "slamkit/linear/normal_equations.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "slamkit/core/error.h"
+
+namespace slamkit {
+namespace {
+
+// dest(di × dj, leading dimension ld) += Aᵀ B, with A: rows × di and B: rows × dj column-major.
+template <int R, int DI, int DJ>
+void add_at_b_fixed(const double* a, const double* b, double* dest, int ld) {
+  const Eigen::Map<const Eigen::Matrix<double, R, DI>> A(a);
+  const Eigen::Map<const Eigen::Matrix<double, R, DJ>> B(b);
+  Eigen::Map<Eigen::Matrix<double, DI, DJ>, 0, Eigen::OuterStride<>> D(dest, Eigen::OuterStride<>(ld));
+  D.noalias() += A.transpose() * B;
+}
+
+void add_at_b(const double* a, const double* b, double* dest, int rows, int di, int dj, int ld) {
+  if (rows == 6 && di == 6 && dj == 6) return add_at_b_fixed<6, 6, 6>(a, b, dest, ld);
+  if (rows == 3 && di == 3 && dj == 3) return add_at_b_fixed<3, 3, 3>(a, b, dest, ld);
+  if (rows == 2 && di == 3 && dj == 2) return add_at_b_fixed<2, 3, 2>(a, b, dest, ld);
+  if (rows == 3 && di == 6 && dj == 3) return add_at_b_fixed<3, 6, 3>(a, b, dest, ld);
+  if (rows == 2 && di == 2 && dj == 2) return add_at_b_fixed<2, 2, 2>(a, b, dest, ld);
+  const Eigen::Map<const Eigen::MatrixXd> A(a, rows, di), B(b, rows, dj);
+  Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(dest, di, dj, Eigen::OuterStride<>(ld));
+  D.noalias() += A.transpose() * B;
+}
+
+}  // namespace
+
+NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values) : graph_(graph) {
+  graph.check_against(values);
+  const std::size_t nf = graph.size();
+  std::vector<char> touched(values.size(), 0);
+  slots_.reserve(nf);
+  std::size_t residual_total = 0;
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Factor& factor = graph[f];
+    slots_.push_back({&factor, factor.residual_dim(), residual_total, var_index_.size()});
+    residual_total += factor.residual_dim();
+    for (Key k : factor.keys()) {
+      const std::size_t i = values.index_of(k);
+      var_index_.push_back(i);
+      touched[i] = 1;
+    }
+    max_arity_ = std::max(max_arity_, factor.keys().size());
+  }
+  // Free variables in Values order; a block per variable.
+  block_of_var_.assign(values.size(), -1);
+  std::vector<int> dims;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (values.fixed(i) || !touched[i]) continue;
+    block_of_var_[i] = static_cast<int>(free_vars_.size());
+    free_vars_.push_back(i);
+    dims.push_back(values.manifold(i).tangent_dim());
+  }
+  if (free_vars_.empty()) throw InputError("", 0, "", "the problem has no free variable to optimize");
+
+  // Jacobian slots for free variables; the block pattern from every pair of them.
+  var_jacobian_.assign(var_index_.size(), -1);
+  std::size_t jac_total = 0;
+  std::vector<std::pair<int, int>> pattern;
+  for (const FactorSlot& s : slots_) {
+    const std::size_t k = s.factor->keys().size();
+    for (std::size_t a = 0; a < k; ++a) {
+      const int ba = block_of_var_[var_index_[s.first_var + a]];
+      if (ba < 0) continue;
+      var_jacobian_[s.first_var + a] = static_cast<std::ptrdiff_t>(jac_total);
+      jac_total += static_cast<std::size_t>(s.residual_dim) * dims[ba];
+      for (std::size_t b = 0; b < k; ++b) {
+        const int bb = block_of_var_[var_index_[s.first_var + b]];
+        if (bb >= 0 && ba < bb) pattern.emplace_back(ba, bb);
+      }
+    }
+  }
+  H_ = BlockSparseMatrix(dims, std::move(pattern));
+  jacobians_.assign(jac_total, 0.0);
+  residuals_.assign(residual_total, 0.0);
+  factor_cost_.assign(nf, 0.0);
+  g_ = Eigen::VectorXd::Zero(H_.rows());
+  diag_ = Eigen::VectorXd::Zero(H_.rows());
+
+  // Contributions grouped by block column, in factor order.
+  contributions_.assign(H_.num_blocks(), {});
+  for (const FactorSlot& s : slots_) {
+    const std::size_t k = s.factor->keys().size();
+    for (std::size_t a = 0; a < k; ++a) {
+      const int ba = block_of_var_[var_index_[s.first_var + a]];
+      if (ba < 0) continue;
+      for (std::size_t b = 0; b < k; ++b) {
+        const int bb = block_of_var_[var_index_[s.first_var + b]];
+        if (bb < 0 || ba > bb || (ba == bb && a != b)) continue;
+        Contribution c;
+        c.ja = static_cast<std::size_t>(var_jacobian_[s.first_var + a]);
+        c.jb = static_cast<std::size_t>(var_jacobian_[s.first_var + b]);
+        c.dest = H_.block_offset(ba, bb);
+        c.rows = s.residual_dim;
+        c.di = dims[ba];
+        c.dj = dims[bb];
+        c.ld = H_.leading_dim(bb);
+        c.residual = s.residual_offset;
+        c.diagonal = ba == bb;
+        contributions_[bb].push_back(c);
+      }
+    }
+  }
+  // A variable used twice by one factor would need J_aᵀJ_b + J_bᵀJ_a on the diagonal block.
+  for (const FactorSlot& s : slots_) {
+    const std::size_t k = s.factor->keys().size();
+    for (std::size_t a = 0; a < k; ++a)
+      for (std::size_t b = a + 1; b < k; ++b)
+        if (var_index_[s.first_var + a] == var_index_[s.first_var + b])
+          throw InputError("", 0, "key", "a factor uses variable " +
+                                             key_to_string(values.key(var_index_[s.first_var + a])) + " twice");
+  }
+}
+
+void NormalEquations::linearize_factors(const Values& x, std::size_t begin, std::size_t end) {
+  std::vector<const double*> params(max_arity_);
+  std::vector<double*> jac(max_arity_);
+  for (std::size_t f = begin; f < end; ++f) {
+    const FactorSlot& s = slots_[f];
+    const std::size_t k = s.factor->keys().size();
+    for (std::size_t v = 0; v < k; ++v) {
+      params[v] = x.params(var_index_[s.first_var + v]);
+      const std::ptrdiff_t off = var_jacobian_[s.first_var + v];
+      jac[v] = off >= 0 ? jacobians_.data() + off : nullptr;
+    }
+    factor_cost_[f] = s.factor->linearize(params.data(), residuals_.data() + s.residual_offset, jac.data());
+  }
+}
+
+void NormalEquations::assemble_column(int j) {
+  // Zero the block column and the gradient block, then add contributions in factor order.
+  const int dj = H_.block_dim(j), ld = H_.leading_dim(j);
+  double* col = H_.values().data() + H_.block_offset(*H_.column_blocks_begin(j), j);
+  std::fill(col, col + static_cast<std::ptrdiff_t>(ld) * dj, 0.0);
+  Eigen::Map<Eigen::VectorXd> gj(g_.data() + H_.block_start(j), dj);
+  gj.setZero();
+  for (const Contribution& c : contributions_[j]) {
+    add_at_b(jacobians_.data() + c.ja, jacobians_.data() + c.jb, H_.values().data() + c.dest, c.rows, c.di, c.dj, c.ld);
+    if (c.diagonal) {
+      const Eigen::Map<const Eigen::MatrixXd> J(jacobians_.data() + c.jb, c.rows, c.dj);
+      gj.noalias() += J.transpose() * Eigen::Map<const Eigen::VectorXd>(residuals_.data() + c.residual, c.rows);
+    }
+  }
+  for (int c = 0; c < dj; ++c) {
+    const int r = H_.block_start(j) + c;
+    diag_[r] = H_.values()[H_.diagonal_positions()[r]];
+  }
+}
+
+double NormalEquations::linearize(const Values& x, const ThreadPool& pool) {
+  pool.parallel_for(slots_.size(), [&](std::size_t b, std::size_t e) { linearize_factors(x, b, e); });
+  double total = 0.0;
+  for (double c : factor_cost_) total += c;
+  if (!std::isfinite(total)) return total;
+  pool.parallel_for(
+      static_cast<std::size_t>(H_.num_blocks()),
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t j = b; j < e; ++j) assemble_column(static_cast<int>(j));
+      },
+      64);
+  return total;
+}
+
+double NormalEquations::cost(const Values& x, const ThreadPool& pool) {
+  pool.parallel_for(slots_.size(), [&](std::size_t begin, std::size_t end) {
+    std::vector<const double*> params(max_arity_);
+    for (std::size_t f = begin; f < end; ++f) {
+      const FactorSlot& s = slots_[f];
+      for (std::size_t v = 0; v < s.factor->keys().size(); ++v) params[v] = x.params(var_index_[s.first_var + v]);
+      factor_cost_[f] = s.factor->cost(params.data(), residuals_.data() + s.residual_offset);
+    }
+  });
+  double total = 0.0;
+  for (double c : factor_cost_) total += c;
+  return total;
+}
+
+std::ptrdiff_t NormalEquations::first_nonfinite_factor() const {
+  for (std::size_t f = 0; f < factor_cost_.size(); ++f)
+    if (!std::isfinite(factor_cost_[f])) return static_cast<std::ptrdiff_t>(f);
+  return -1;
+}
+
+void NormalEquations::set_diagonal_damping(const Eigen::VectorXd& damping) {
+  const auto& pos = H_.diagonal_positions();
+  for (int r = 0; r < H_.rows(); ++r) H_.values()[pos[r]] = diag_[r] + damping[r];
+}
+
+void NormalEquations::clear_damping() {
+  const auto& pos = H_.diagonal_positions();
+  for (int r = 0; r < H_.rows(); ++r) H_.values()[pos[r]] = diag_[r];
+}
+
+void NormalEquations::retract(const Values& x, const double* delta, Values& out, const ThreadPool& pool) const {
+  pool.parallel_for(
+      free_vars_.size(),
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k) {
+          const std::size_t i = free_vars_[k];
+          x.manifold(i).plus(x.params(i), delta + H_.block_start(static_cast<int>(k)), out.params(i));
+        }
+      },
+      1024);
+}
+
+}  // namespace slamkit
