@@ -148,6 +148,48 @@ std::size_t count_connected_components(const PoseGraph& g) {
   return n;
 }
 
+std::vector<std::int64_t> gauge_vertices(const PoseGraph& g, std::vector<std::string>* notes) {
+  const auto& vs = g.vertices();
+  UnionFind uf(vs.size());
+  for (const auto& e : g.edges) {
+    const auto a = g.index_of(e.from), b = g.index_of(e.to);
+    if (a && b) uf.unite(*a, *b);
+  }
+  std::vector<std::int64_t> gauge;
+  std::vector<char> component_fixed(vs.size(), 0);
+  for (std::int64_t id : g.fixed) {
+    const auto i = g.index_of(id);
+    if (!i) throw InputError(g.source, 0, "FIX", "FIX names unknown vertex " + std::to_string(id));
+    gauge.push_back(id);
+    component_fixed[uf.find(*i)] = 1;
+  }
+  // Smallest pose id of each component without a fixed vertex.
+  std::vector<std::ptrdiff_t> smallest(vs.size(), -1);
+  for (std::size_t i = 0; i < vs.size(); ++i) {
+    if (vs[i].kind != VertexKind::kPose2 && vs[i].kind != VertexKind::kPose3) continue;
+    const std::size_t r = uf.find(i);
+    if (smallest[r] < 0 || vs[i].id < vs[smallest[r]].id) smallest[r] = static_cast<std::ptrdiff_t>(i);
+  }
+  std::size_t components = 0, added = 0;
+  for (std::size_t r = 0; r < vs.size(); ++r) {
+    if (uf.find(r) != r) continue;
+    ++components;
+    if (component_fixed[r] || smallest[r] < 0) continue;
+    gauge.push_back(vs[smallest[r]].id);
+    ++added;
+  }
+  if (notes && added > 0) {
+    if (components > 1) {
+      notes->push_back("graph has " + std::to_string(components) +
+                       " disconnected components: the gauge is fixed in each one separately (" + std::to_string(added) +
+                       " vertices fixed); their relative placement is arbitrary");
+    } else if (g.fixed.empty()) {
+      notes->push_back("no FIX vertex: vertex " + std::to_string(gauge.back()) + " is held fixed (gauge)");
+    }
+  }
+  return gauge;
+}
+
 std::size_t complete_estimates_by_odometry(PoseGraph& g) {
   const std::size_t n = g.vertices().size();
   std::vector<std::vector<std::size_t>> incident(n);

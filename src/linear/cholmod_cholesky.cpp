@@ -81,21 +81,34 @@ class CholmodCholesky final : public SparseCholesky {
   }
   bool is_fallback() const override { return false; }
 
-  void analyze(const BlockSparseMatrix& A) override {
+  void analyze(const BlockSparseMatrix& A, const EliminationOrder* block_order) override {
     const double t0 = now_s();
     if (L_) cholmod_free_factor(&L_, &c_);
     n_ = A.rows();
-    const std::vector<int> block_perm = block_ordering(A);
+    if (block_order) {
+      if (static_cast<int>(block_order->order.size()) != A.num_blocks())
+        throw std::invalid_argument("SparseCholesky::analyze: block order has the wrong size");
+      block_order_ = block_order->order;
+      stats_.ordering = block_order->method;
+    } else {
+      std::vector<std::pair<int, int>> edges;
+      for (int j = 0; j < A.num_blocks(); ++j)
+        for (const int* i = A.column_blocks_begin(j); i != A.column_blocks_end(j); ++i) edges.emplace_back(*i, j);
+      EliminationOrder order = compute_elimination_order(A.num_blocks(), edges, ordering_);
+      block_order_ = std::move(order.order);
+      stats_.ordering = order.method;
+    }
     std::vector<int> perm;
     perm.reserve(n_);
-    for (int b : block_perm)
+    for (int b : block_order_)
       for (int r = 0; r < A.block_dim(b); ++r) perm.push_back(A.block_start(b) + r);
     cholmod_sparse S = wrap_upper(n_, A.col_ptr(), A.row_index(), nullptr);
     c_.nmethods = 1;
     c_.method[0].ordering = CHOLMOD_GIVEN;
     c_.postorder = 1;
     L_ = cholmod_analyze_p(&S, perm.data(), nullptr, 0, &c_);
-    if (!L_ || c_.status < CHOLMOD_OK) throw NumericalError("CHOLMOD symbolic analysis failed (status " + std::to_string(c_.status) + ")");
+    if (!L_ || c_.status < CHOLMOD_OK)
+      throw NumericalError("CHOLMOD symbolic analysis failed (status " + std::to_string(c_.status) + ")");
     stats_.factor_nnz = c_.lnz;
     stats_.factor_flops = c_.fl;
     stats_.analyze_time_s = now_s() - t0;
@@ -138,49 +151,12 @@ class CholmodCholesky final : public SparseCholesky {
   const CholeskyStats& stats() const override { return stats_; }
 
  private:
-  // Orders the block graph; for kAuto CHOLMOD tries AMD, METIS and NESDIS and keeps the one
-  // with the smallest factor.
-  std::vector<int> block_ordering(const BlockSparseMatrix& A) {
-    const int nb = A.num_blocks();
-    std::vector<int> perm(nb);
-    if (ordering_ == OrderingMethod::kNatural) {
-      for (int i = 0; i < nb; ++i) perm[i] = i;
-      stats_.ordering = "natural";
-      return perm;
-    }
-    cholmod_sparse G = wrap_upper(nb, A.block_column_pointers(), A.block_row_indices(), nullptr);
-    switch (ordering_) {
-      case OrderingMethod::kAmd: c_.nmethods = 1, c_.method[0].ordering = CHOLMOD_AMD; break;
-      case OrderingMethod::kMetis: c_.nmethods = 1, c_.method[0].ordering = CHOLMOD_METIS; break;
-      case OrderingMethod::kNesdis: c_.nmethods = 1, c_.method[0].ordering = CHOLMOD_NESDIS; break;
-      default:
-        c_.nmethods = 3;
-        c_.method[0].ordering = CHOLMOD_AMD;
-        c_.method[1].ordering = CHOLMOD_METIS;
-        c_.method[2].ordering = CHOLMOD_NESDIS;
-        break;
-    }
-    const int saved_supernodal = c_.supernodal;
-    c_.supernodal = CHOLMOD_SIMPLICIAL;  // only the permutation is wanted here
-    cholmod_factor* Lb = cholmod_analyze(&G, &c_);
-    c_.supernodal = saved_supernodal;
-    if (!Lb) throw NumericalError("CHOLMOD ordering failed (status " + std::to_string(c_.status) + ")");
-    std::memcpy(perm.data(), Lb->Perm, sizeof(int) * nb);
-    switch (Lb->ordering) {
-      case CHOLMOD_AMD: stats_.ordering = "AMD"; break;
-      case CHOLMOD_METIS: stats_.ordering = "METIS"; break;
-      case CHOLMOD_NESDIS: stats_.ordering = "NESDIS"; break;
-      default: stats_.ordering = "CHOLMOD method " + std::to_string(Lb->ordering); break;
-    }
-    cholmod_free_factor(&Lb, &c_);
-    return perm;
-  }
-
   OrderingMethod ordering_;
   cholmod_common c_;
   cholmod_factor* L_ = nullptr;
   cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;
   int n_ = 0;
+  std::vector<int> block_order_;
   CholeskyStats stats_;
 };
 

@@ -17,7 +17,7 @@ class EigenCholesky final : public SparseCholesky {
   std::string name() const override { return "Eigen SimplicialLDLT (FALLBACK: slow, CHOLMOD not used)"; }
   bool is_fallback() const override { return true; }
 
-  void analyze(const BlockSparseMatrix& A) override {
+  void analyze(const BlockSparseMatrix& A, const EliminationOrder*) override {  // Eigen orders by itself
     const auto t0 = std::chrono::steady_clock::now();
     const auto M = map(A);
     if (natural_) {

@@ -87,6 +87,12 @@ bool is_odometry(const GraphEdge& e);
 /// Number of connected components (vertices joined by edges; EQUIV joins too).
 std::size_t count_connected_components(const PoseGraph& g);
 
+/// The vertices held fixed to remove the gauge freedom: the FIX vertices, plus, for every
+/// connected component without one, its smallest pose id. Appends a human-readable note for
+/// each choice made (missing FIX, several components) to `notes` if given.
+/// Throws InputError if a FIX names an unknown vertex.
+std::vector<std::int64_t> gauge_vertices(const PoseGraph& g, std::vector<std::string>* notes = nullptr);
+
 /// Gives every vertex without an estimate one, by composing measurements outward from the
 /// vertices that have one: first along the odometry chain, then breadth-first over all edges.
 /// A component without any estimate is rooted at its smallest id, at the identity. Returns the

@@ -29,6 +29,8 @@ class NormalEquations {
   int num_free_variables() const { return H_.num_blocks(); }
   /// Values index of free variable k (block k of H).
   std::size_t free_variable(int k) const { return free_vars_[k]; }
+  /// Block of H of the variable with this Values index, −1 if it is not free.
+  int block_of_variable(std::size_t values_index) const { return block_of_var_[values_index]; }
 
   /// Fills H and g at x; returns the cost Σ ρ_f, or NaN if some factor is not finite.
   double linearize(const Values& x, const ThreadPool& pool);

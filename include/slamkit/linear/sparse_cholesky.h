@@ -11,6 +11,8 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "slamkit/linear/block_sparse_matrix.h"
 
@@ -25,6 +27,13 @@ const char* to_string(OrderingMethod m);
 SparseBackend parse_sparse_backend(const std::string& s);
 /// "auto", "amd", "metis", "nesdis", "natural"; throws InputError otherwise.
 OrderingMethod parse_ordering(const std::string& s);
+
+/// A fill-reducing elimination order of a graph (nodes 0..n−1, undirected edges).
+struct EliminationOrder {
+  std::vector<int> order;  ///< order[k] = node eliminated k-th
+  std::string method;      ///< "AMD", "METIS", "NESDIS", "natural"
+  double flops = 0.0;      ///< Cholesky flops of the unit-block pattern under this order
+};
 
 struct CholeskyStats {
   std::string ordering;     ///< the ordering actually used
@@ -41,8 +50,9 @@ class SparseCholesky {
   /// True for the slow fallback backend (callers must say so in their report).
   virtual bool is_fallback() const = 0;
   /// Symbolic analysis of A's pattern; must be called before factorize() and again only if
-  /// the pattern changes.
-  virtual void analyze(const BlockSparseMatrix& A) = 0;
+  /// the pattern changes. block_order (over A's blocks, first eliminated first) skips the
+  /// ordering step; otherwise the configured OrderingMethod computes one.
+  virtual void analyze(const BlockSparseMatrix& A, const EliminationOrder* block_order = nullptr) = 0;
   /// Numeric factorization of A's values. False if A is not (numerically) positive definite.
   virtual bool factorize(const BlockSparseMatrix& A) = 0;
   /// x = A⁻¹ b (b and x of length A.rows(); they may alias).
@@ -53,6 +63,11 @@ class SparseCholesky {
   virtual double inverse_factor_norm2(const double* v) = 0;
   virtual const CholeskyStats& stats() const = 0;
 };
+
+/// kAuto: AMD, and for large factorizations (≥ 2e6 unit-block flops, i.e. ≈ 2e8 for 6×6
+/// blocks) also METIS and NESDIS, keeping the one with the fewest flops.
+EliminationOrder compute_elimination_order(int n, const std::vector<std::pair<int, int>>& edges,
+                                           OrderingMethod method = OrderingMethod::kAuto);
 
 /// kAuto picks CHOLMOD when slamkit was built with it. blas_threads ≤ 0 leaves BLAS alone.
 std::unique_ptr<SparseCholesky> make_sparse_cholesky(SparseBackend backend = SparseBackend::kAuto,

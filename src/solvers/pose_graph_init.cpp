@@ -1,0 +1,352 @@
+#include "slamkit/solvers/pose_graph_init.h"
+
+#include <Eigen/SVD>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <unordered_map>
+
+#include "slamkit/core/error.h"
+
+namespace slamkit {
+namespace {
+
+bool is_pose(const GraphVertex& v) { return v.kind == VertexKind::kPose2 || v.kind == VertexKind::kPose3; }
+bool is_pose_edge(const GraphEdge& e) { return e.kind == EdgeKind::kPose2Pose2 || e.kind == EdgeKind::kPose3Pose3; }
+
+// Pose vertices renumbered 0..n−1, with the gauge ones marked; edge endpoints resolved.
+struct PoseIndex {
+  std::vector<std::size_t> vertex;      // pose k → graph vertex index
+  std::vector<int> pose_of;             // graph vertex index → pose k or −1
+  std::vector<char> gauge;              // pose k fixed?
+  std::vector<std::pair<int, int>> ends;  // per graph edge: (pose a, pose b), (−1, −1) if not pose–pose
+};
+
+PoseIndex index_poses(const PoseGraph& g, const std::vector<std::int64_t>& gauge_ids) {
+  PoseIndex ix;
+  ix.pose_of.assign(g.vertices().size(), -1);
+  for (std::size_t i = 0; i < g.vertices().size(); ++i) {
+    if (!is_pose(g.vertices()[i])) continue;
+    ix.pose_of[i] = static_cast<int>(ix.vertex.size());
+    ix.vertex.push_back(i);
+  }
+  ix.gauge.assign(ix.vertex.size(), 0);
+  for (std::int64_t id : gauge_ids) {
+    const int k = ix.pose_of[*g.index_of(id)];
+    if (k >= 0) ix.gauge[k] = 1;
+  }
+  for (const GraphEdge& e : g.edges) {
+    if (!is_pose_edge(e)) {
+      ix.ends.emplace_back(-1, -1);
+      continue;
+    }
+    ix.ends.emplace_back(ix.pose_of[*g.index_of(e.from)], ix.pose_of[*g.index_of(e.to)]);
+  }
+  return ix;
+}
+
+// Breadth-first spanning tree from the gauge poses over pose–pose edges. Fills parent edge
+// per pose (−1 for roots/unreached) and the visiting order.
+void spanning_tree(const PoseGraph& g, const PoseIndex& ix, std::vector<int>* parent_edge, std::vector<int>* order) {
+  const std::size_t n = ix.vertex.size();
+  std::vector<std::vector<int>> incident(n);
+  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+    const auto [a, b] = ix.ends[e];
+    if (a < 0 || a == b) continue;
+    incident[a].push_back(static_cast<int>(e));
+    incident[b].push_back(static_cast<int>(e));
+  }
+  parent_edge->assign(n, -1);
+  std::vector<char> seen(n, 0);
+  std::deque<int> queue;
+  order->clear();
+  for (std::size_t k = 0; k < n; ++k)
+    if (ix.gauge[k]) seen[k] = 1, queue.push_back(static_cast<int>(k));
+  while (!queue.empty()) {
+    const int a = queue.front();
+    queue.pop_front();
+    order->push_back(a);
+    for (int e : incident[a]) {
+      const int b = ix.ends[e].first == a ? ix.ends[e].second : ix.ends[e].first;
+      if (seen[b]) continue;
+      seen[b] = 1;
+      (*parent_edge)[b] = e;
+      queue.push_back(b);
+    }
+  }
+}
+
+// Composes poses along the spanning tree (each child from its parent through the tree edge).
+void compose_along_tree(PoseGraph& g, const PoseIndex& ix, const std::vector<int>& parent_edge,
+                        const std::vector<int>& order) {
+  for (int k : order) {
+    const int e = parent_edge[k];
+    if (e < 0) continue;
+    const GraphEdge& edge = g.edges[e];
+    GraphVertex& child = g.vertex_at(ix.vertex[k]);
+    const bool forward = g.vertices()[ix.vertex[k]].id == edge.to;  // parent is `from`
+    const GraphVertex& parent = g.vertex(forward ? edge.from : edge.to);
+    if (edge.kind == EdgeKind::kPose2Pose2) {
+      child.pose2 = forward ? parent.pose2 * edge.pose2 : parent.pose2 * edge.pose2.inverse();
+    } else {
+      child.pose3 = forward ? parent.pose3 * edge.pose3 : parent.pose3 * edge.pose3.inverse();
+    }
+    child.has_estimate = true;
+  }
+}
+
+// Landmarks (and anything unreached) from the first observing pose.
+void initialize_points(PoseGraph& g) {
+  for (std::size_t i = 0; i < g.vertices().size(); ++i)
+    if (!is_pose(g.vertices()[i])) g.vertex_at(i).has_estimate = false;
+  complete_estimates_by_odometry(g);
+}
+
+// Solves the block system A X = B where only non-gauge poses are unknowns. `blocks` are the
+// (a, b) pose pairs, values are added through add(); fixed poses are eliminated by the caller.
+class PoseSystem {
+ public:
+  PoseSystem(const PoseIndex& ix, int block, const std::vector<std::pair<int, int>>& edges, int rhs,
+             const InitOptions& o)
+      : block_(block), rhs_(rhs) {
+    unknown_.assign(ix.vertex.size(), -1);
+    int n = 0;
+    for (std::size_t k = 0; k < ix.vertex.size(); ++k)
+      if (!ix.gauge[k]) unknown_[k] = n++;
+    std::vector<std::pair<int, int>> pattern;
+    for (const auto& [a, b] : edges) {
+      const int ua = unknown_[a], ub = unknown_[b];
+      if (ua >= 0 && ub >= 0 && ua != ub) pattern.emplace_back(ua, ub);
+    }
+    A_ = BlockSparseMatrix(std::vector<int>(n, block), pattern);
+    B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
+    chol_ = make_sparse_cholesky(o.linear_solver, o.ordering, o.threads);
+    if (!o.vertex_order.order.empty()) {
+      EliminationOrder blocks;
+      blocks.method = o.vertex_order.method;
+      for (int v : o.vertex_order.order) {
+        const int pose = ix.pose_of.at(static_cast<std::size_t>(v));
+        if (pose >= 0 && unknown_[pose] >= 0) blocks.order.push_back(unknown_[pose]);
+      }
+      chol_->analyze(A_, &blocks);
+    } else {
+      chol_->analyze(A_);
+    }
+  }
+  int unknown(int pose) const { return unknown_[pose]; }
+  void reset() {
+    A_.set_zero();
+    B_.setZero();
+  }
+  // Residual r = M_a x_a + M_b x_b − c (per RHS column), weight W: adds to the normal equations,
+  // moving known (gauge) terms to the right-hand side.
+  void add(int a, const Eigen::MatrixXd& Ma, int b, const Eigen::MatrixXd& Mb, const Eigen::MatrixXd& c,
+           const Eigen::MatrixXd& W, const Eigen::MatrixXd& xa_known, const Eigen::MatrixXd& xb_known) {
+    const int ua = unknown_[a], ub = unknown_[b];
+    Eigen::MatrixXd rhs = c;  // c − (known terms)
+    if (ua < 0) rhs -= Ma * xa_known;
+    if (ub < 0) rhs -= Mb * xb_known;
+    if (ua >= 0) {
+      A_.block(ua, ua) += Ma.transpose() * W * Ma;
+      B_.middleRows(ua * block_, block_) += Ma.transpose() * W * rhs;
+    }
+    if (ub >= 0) {
+      A_.block(ub, ub) += Mb.transpose() * W * Mb;
+      B_.middleRows(ub * block_, block_) += Mb.transpose() * W * rhs;
+    }
+    if (ua >= 0 && ub >= 0 && ua != ub) {
+      if (ua < ub) {
+        A_.block(ua, ub) += Ma.transpose() * W * Mb;
+      } else {
+        A_.block(ub, ua) += Mb.transpose() * W * Ma;
+      }
+    }
+  }
+  Eigen::MatrixXd solve() {
+    if (A_.rows() == 0) return B_;
+    if (!chol_->factorize(A_))
+      throw NumericalError("initialization: the linear system is singular (is every pose connected to a gauge vertex?)");
+    return chol_->solve(B_);
+  }
+
+ private:
+  int block_, rhs_;
+  std::vector<int> unknown_;
+  BlockSparseMatrix A_;
+  Eigen::MatrixXd B_;
+  std::unique_ptr<SparseCholesky> chol_;
+};
+
+std::vector<std::pair<int, int>> pose_pairs(const PoseIndex& ix) {
+  std::vector<std::pair<int, int>> p;
+  for (const auto& e : ix.ends)
+    if (e.first >= 0 && e.first != e.second) p.push_back(e);
+  return p;
+}
+
+// ---- 2D: LAGO-style orientations, then positions.
+void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
+  std::vector<int> parent, order;
+  spanning_tree(g, ix, &parent, &order);
+  const std::size_t n = ix.vertex.size();
+  // Unwrapped tree orientations.
+  std::vector<double> tree_theta(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k)
+    if (ix.gauge[k]) tree_theta[k] = g.vertices()[ix.vertex[k]].pose2.theta();
+  for (int k : order) {
+    const int e = parent[k];
+    if (e < 0) continue;
+    const GraphEdge& edge = g.edges[e];
+    const bool forward = ix.ends[e].second == k;
+    const int p = forward ? ix.ends[e].first : ix.ends[e].second;
+    tree_theta[k] = tree_theta[p] + (forward ? edge.pose2.theta() : -edge.pose2.theta());
+  }
+  const auto pairs = pose_pairs(ix);
+  PoseSystem theta_sys(ix, 1, pairs, 1, o);
+  const Eigen::MatrixXd one = Eigen::MatrixXd::Ones(1, 1), minus_one = -one;
+  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+    const auto [a, b] = ix.ends[e];
+    if (a < 0 || a == b) continue;
+    const GraphEdge& edge = g.edges[e];
+    const double delta = edge.pose2.theta();
+    const double wraps = std::round((tree_theta[b] - tree_theta[a] - delta) / (2.0 * kPi));
+    const Eigen::Matrix3d cov = edge.information.inverse();
+    const Eigen::MatrixXd W = Eigen::MatrixXd::Constant(1, 1, 1.0 / cov(2, 2));
+    theta_sys.add(a, minus_one, b, one, Eigen::MatrixXd::Constant(1, 1, delta + 2.0 * kPi * wraps), W,
+                  Eigen::MatrixXd::Constant(1, 1, tree_theta[a]), Eigen::MatrixXd::Constant(1, 1, tree_theta[b]));
+  }
+  const Eigen::MatrixXd theta = theta_sys.solve();
+  std::vector<double> th(n);
+  for (std::size_t k = 0; k < n; ++k) th[k] = ix.gauge[k] ? tree_theta[k] : theta(theta_sys.unknown(k), 0);
+
+  PoseSystem pos_sys(ix, 2, pairs, 1, o);
+  const Eigen::MatrixXd I2 = Eigen::Matrix2d::Identity(), mI2 = -I2;
+  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+    const auto [a, b] = ix.ends[e];
+    if (a < 0 || a == b) continue;
+    const GraphEdge& edge = g.edges[e];
+    // g2o error translation R_zᵀ(R_aᵀ(p_b − p_a) − t_z): weight (R_a R_z) Ω_xy (R_a R_z)ᵀ.
+    const Eigen::Matrix2d Ra = SO2(th[a]).matrix(), Rz = edge.pose2.rotation().matrix();
+    const Eigen::Matrix2d M = Ra * Rz;
+    const Eigen::Matrix3d& Om = edge.information;
+    // Information of the translation error given θ (the θ row is fixed): the xy block.
+    const Eigen::MatrixXd W = M * Om.topLeftCorner<2, 2>() * M.transpose();
+    pos_sys.add(a, mI2, b, I2, Ra * edge.pose2.translation(), W,
+                g.vertices()[ix.vertex[a]].pose2.translation(), g.vertices()[ix.vertex[b]].pose2.translation());
+  }
+  const Eigen::MatrixXd pos = pos_sys.solve();
+  for (std::size_t k = 0; k < n; ++k) {
+    if (ix.gauge[k]) continue;
+    GraphVertex& v = g.vertex_at(ix.vertex[k]);
+    v.pose2 = SE2(SO2(th[k]), pos.middleRows(2 * pos_sys.unknown(static_cast<int>(k)), 2));
+    v.has_estimate = true;
+  }
+}
+
+Eigen::Matrix3d project_to_so3(const Eigen::Matrix3d& M) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixU() * D * svd.matrixV().transpose();
+}
+
+// ---- 3D: chordal relaxation of rotations, then positions.
+void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
+  const std::size_t n = ix.vertex.size();
+  const auto pairs = pose_pairs(ix);
+  // Unknowns per pose: x = (row k of R)ᵀ for k = 0, 1, 2 as three right-hand sides.
+  // Edge R_b = R_a Z ⇒ row: x_b − Zᵀ x_a = 0.
+  PoseSystem rot_sys(ix, 3, pairs, 3, o);
+  const Eigen::MatrixXd I3 = Eigen::Matrix3d::Identity();
+  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+    const auto [a, b] = ix.ends[e];
+    if (a < 0 || a == b) continue;
+    const GraphEdge& edge = g.edges[e];
+    const Eigen::Matrix3d Zt = edge.pose3.rotation().matrix().transpose();
+    const double w = edge.information.bottomRightCorner<3, 3>().trace() / 3.0;
+    const Eigen::MatrixXd W = w * I3;
+    const Eigen::MatrixXd Ra = g.vertices()[ix.vertex[a]].pose3.rotation().matrix().transpose();
+    const Eigen::MatrixXd Rb = g.vertices()[ix.vertex[b]].pose3.rotation().matrix().transpose();
+    rot_sys.add(a, -Zt, b, I3, Eigen::MatrixXd::Zero(3, 3), W, Ra, Rb);  // columns of Rᵀ = rows of R
+  }
+  const Eigen::MatrixXd X = rot_sys.solve();
+  std::vector<Eigen::Matrix3d> R(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    R[k] = ix.gauge[k] ? g.vertices()[ix.vertex[k]].pose3.rotation().matrix()
+                       : project_to_so3(X.middleRows(3 * rot_sys.unknown(static_cast<int>(k)), 3).transpose());
+  }
+  PoseSystem pos_sys(ix, 3, pairs, 1, o);
+  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+    const auto [a, b] = ix.ends[e];
+    if (a < 0 || a == b) continue;
+    const GraphEdge& edge = g.edges[e];
+    const Eigen::Matrix3d M = R[a] * edge.pose3.rotation().matrix();
+    const Eigen::MatrixXd W = M * edge.information.topLeftCorner<3, 3>() * M.transpose();
+    pos_sys.add(a, -I3, b, I3, R[a] * edge.pose3.translation(), W, g.vertices()[ix.vertex[a]].pose3.translation(),
+                g.vertices()[ix.vertex[b]].pose3.translation());
+  }
+  const Eigen::MatrixXd pos = pos_sys.solve();
+  for (std::size_t k = 0; k < n; ++k) {
+    if (ix.gauge[k]) continue;
+    GraphVertex& v = g.vertex_at(ix.vertex[k]);
+    v.pose3 = SE3(SO3::from_matrix(R[k]), pos.middleRows(3 * pos_sys.unknown(static_cast<int>(k)), 3));
+    v.has_estimate = true;
+  }
+}
+
+}  // namespace
+
+const char* to_string(InitMethod m) {
+  switch (m) {
+    case InitMethod::kNone: return "none";
+    case InitMethod::kOdometry: return "odometry";
+    case InitMethod::kSpanningTree: return "spanning-tree";
+    case InitMethod::kLinear: return "linear";
+    case InitMethod::kChordal: return "chordal";
+    case InitMethod::kAuto: return "auto";
+  }
+  return "?";
+}
+
+InitMethod parse_init_method(const std::string& s) {
+  for (auto m : {InitMethod::kNone, InitMethod::kOdometry, InitMethod::kSpanningTree, InitMethod::kLinear,
+                 InitMethod::kChordal, InitMethod::kAuto})
+    if (s == to_string(m)) return m;
+  throw InputError("", 0, "init", "unknown initialization '" + s + "' (none, odometry, spanning-tree, linear, chordal, auto)");
+}
+
+InitSummary initialize_pose_graph(PoseGraph& g, InitMethod method, const std::vector<std::int64_t>& gauge,
+                                  const InitOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  InitSummary s;
+  s.requested = method;
+  const int dim = g.dimension();
+  if (method == InitMethod::kAuto) method = dim == 3 ? InitMethod::kChordal : InitMethod::kLinear;
+  s.used = method;
+  if (method == InitMethod::kLinear && dim != 2)
+    throw InputError(g.source, 0, "init", "linear (LAGO) initialization is for 2D graphs; use chordal in 3D");
+  if (method == InitMethod::kChordal && dim != 3)
+    throw InputError(g.source, 0, "init", "chordal initialization is for 3D graphs; use linear in 2D");
+
+  if (method == InitMethod::kOdometry) {
+    for (std::size_t i = 0; i < g.vertices().size(); ++i) g.vertex_at(i).has_estimate = false;
+    for (std::int64_t id : gauge) g.vertex_at(*g.index_of(id)).has_estimate = true;
+    complete_estimates_by_odometry(g);
+  } else if (method != InitMethod::kNone) {
+    const PoseIndex ix = index_poses(g, gauge);
+    if (method == InitMethod::kSpanningTree) {
+      std::vector<int> parent, order;
+      spanning_tree(g, ix, &parent, &order);
+      compose_along_tree(g, ix, parent, order);
+    } else if (method == InitMethod::kLinear) {
+      linear_2d(g, ix, options);
+    } else {
+      chordal_3d(g, ix, options);
+    }
+    initialize_points(g);
+  }
+  s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
+}
+
+}  // namespace slamkit

@@ -1,0 +1,76 @@
+#include "slamkit/solvers/pose_graph_init.h"
+
+#include <gtest/gtest.h>
+
+#include "slamkit/core/error.h"
+#include "slamkit/core/pose_graph_error.h"
+#include "slamkit/sim/pose_graph_generator.h"
+
+namespace slamkit {
+namespace {
+
+// Exact measurements: every initializer that solves for the poses must recover the truth.
+PoseGraph noise_free(const std::string& world, PoseGraph* truth) {
+  PoseGraphSimOptions o;
+  o.world = world;
+  o.num_poses = 600;
+  o.rings = 10;
+  o.poses_per_ring = 16;
+  o.translation_sigma = 1e-12;
+  o.rotation_sigma = 1e-12;
+  return generate_pose_graph(o, truth);
+}
+
+double max_pose_error(const PoseGraph& a, const PoseGraph& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.vertices().size(); ++i) {
+    const GraphVertex &u = a.vertices()[i], &v = b.vertices()[i];
+    const double e = u.kind == VertexKind::kPose2 ? (u.pose2.matrix() - v.pose2.matrix()).norm()
+                                                  : (u.pose3.matrix() - v.pose3.matrix()).norm();
+    worst = std::max(worst, e);
+  }
+  return worst;
+}
+
+TEST(PoseGraphInit, RecoversNoiseFreeGraphsExactly) {
+  for (const std::string world : {"manhattan", "sphere"}) {
+    PoseGraph truth;
+    PoseGraph g = noise_free(world, &truth);
+    for (std::size_t i = 1; i < g.vertices().size(); ++i) {  // scramble the estimates
+      g.vertex_at(i).pose2 = SE2(5, -3, 1);
+      g.vertex_at(i).pose3 = SE3(SO3::exp(Eigen::Vector3d(1, 2, 3)), Eigen::Vector3d(7, 8, 9));
+    }
+    for (InitMethod m : {InitMethod::kOdometry, InitMethod::kSpanningTree, InitMethod::kAuto}) {
+      PoseGraph h = g;
+      const InitSummary s = initialize_pose_graph(h, m, gauge_vertices(h));
+      EXPECT_LT(max_pose_error(h, truth), 1e-6) << world << " " << to_string(m);
+      if (m == InitMethod::kAuto) EXPECT_EQ(s.used, world == "sphere" ? InitMethod::kChordal : InitMethod::kLinear);
+    }
+  }
+}
+
+TEST(PoseGraphInit, LinearAndChordalBeatOdometryOnNoisyGraphs) {
+  for (const std::string world : {"manhattan", "sphere"}) {
+    PoseGraphSimOptions o;
+    o.world = world;
+    o.num_poses = 1500;
+    o.rings = 20;
+    o.poses_per_ring = 30;
+    o.rotation_sigma = 0.05;
+    PoseGraph g = generate_pose_graph(o);
+    PoseGraph odo = g;
+    initialize_pose_graph(odo, InitMethod::kOdometry, gauge_vertices(odo));
+    initialize_pose_graph(g, InitMethod::kAuto, gauge_vertices(g));
+    EXPECT_LT(total_chi2(g), 0.2 * total_chi2(odo)) << world;
+  }
+}
+
+TEST(PoseGraphInit, RejectsMethodsOfTheWrongDimension) {
+  PoseGraph truth;
+  PoseGraph g = noise_free("manhattan", &truth);
+  EXPECT_THROW(initialize_pose_graph(g, InitMethod::kChordal, gauge_vertices(g)), InputError);
+  EXPECT_THROW(parse_init_method("magic"), InputError);
+}
+
+}  // namespace
+}  // namespace slamkit
