@@ -1,5 +1,5 @@
 # FindCHOLMOD: SuiteSparse's CHOLMOD (Debian libsuitesparse-dev ships no CMake config).
-# Defines the imported target SuiteSparse::CHOLMOD, CHOLMOD_FOUND, CHOLMOD_VERSION,
+# Defines the imported target slamkit_deps::CHOLMOD, CHOLMOD_FOUND, CHOLMOD_VERSION,
 # CHOLMOD_HAS_METIS and SLAMKIT_BLAS_LIBRARY (the BLAS that libblas.so.3 resolves to).
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
 find_library(CHOLMOD_LIBRARY cholmod)
@@ -23,15 +23,15 @@ find_package_handle_standard_args(CHOLMOD
   REQUIRED_VARS CHOLMOD_LIBRARY CHOLMOD_INCLUDE_DIR CHOLMOD_AMD_LIBRARY CHOLMOD_COLAMD_LIBRARY CHOLMOD_CONFIG_LIBRARY
   VERSION_VAR CHOLMOD_VERSION)
 
-if(CHOLMOD_FOUND AND NOT TARGET SuiteSparse::CHOLMOD)
-  add_library(SuiteSparse::CHOLMOD UNKNOWN IMPORTED)
+if(CHOLMOD_FOUND AND NOT TARGET slamkit_deps::CHOLMOD)
+  add_library(slamkit_deps::CHOLMOD UNKNOWN IMPORTED)
   set(_deps ${CHOLMOD_AMD_LIBRARY} ${CHOLMOD_COLAMD_LIBRARY} ${CHOLMOD_CONFIG_LIBRARY})
   foreach(_lib CHOLMOD_CAMD_LIBRARY CHOLMOD_CCOLAMD_LIBRARY CHOLMOD_METIS_LIBRARY)
     if(${_lib})
       list(APPEND _deps ${${_lib}})
     endif()
   endforeach()
-  set_target_properties(SuiteSparse::CHOLMOD PROPERTIES
+  set_target_properties(slamkit_deps::CHOLMOD PROPERTIES
     IMPORTED_LOCATION "${CHOLMOD_LIBRARY}"
     INTERFACE_INCLUDE_DIRECTORIES "${CHOLMOD_INCLUDE_DIR}"
     INTERFACE_LINK_LIBRARIES "${_deps}")

@@ -32,8 +32,11 @@ std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd&
   if ((omega - omega.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
     throw NumericalError("NoiseModel::information: matrix is not symmetric");
   // Diagonal information: no dense whitening needed.
-  const Eigen::MatrixXd off = omega - Eigen::MatrixXd(omega.diagonal().asDiagonal());
-  if (off.cwiseAbs().maxCoeff() == 0.0) {
+  bool diagonal = true;
+  for (int c = 0; c < n && diagonal; ++c)
+    for (int r = 0; r < n; ++r)
+      if (r != c && omega(r, c) != 0.0) diagonal = false;
+  if (diagonal) {
     if (!(omega.diagonal().array() > 0.0).all())
       throw NumericalError("NoiseModel::information: matrix is not positive definite");
     auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDiagonal, n));

@@ -76,9 +76,29 @@ Eigen::VectorXd edge_error(const PoseGraph& g, const GraphEdge& e) {
   throw InputError(g.source, e.line, "", "unknown edge kind");
 }
 
+namespace {
+// eᵀ Ω e with a fixed-size error (no heap allocation on the hot path).
+template <int N>
+double quadratic_form(const Eigen::Matrix<double, N, 1>& e, const Eigen::MatrixXd& omega) {
+  return e.dot(omega.topLeftCorner<N, N>() * e);
+}
+}  // namespace
+
 double edge_chi2(const PoseGraph& g, const GraphEdge& e) {
-  const Eigen::VectorXd r = edge_error(g, e);
-  return r.dot(e.information * r);
+  const GraphVertex& a = g.vertex(e.from);
+  const GraphVertex& b = g.vertex(e.to);
+  switch (e.kind) {
+    case EdgeKind::kPose2Pose2: return quadratic_form<3>(pose2_edge_error(e.pose2, a.pose2, b.pose2), e.information);
+    case EdgeKind::kPose3Pose3: return quadratic_form<6>(pose3_edge_error(e.pose3, a.pose3, b.pose3), e.information);
+    case EdgeKind::kPose2Point2:
+      return quadratic_form<2>(pose2_point_error(e.point.head<2>(), a.pose2, b.point.head<2>()), e.information);
+    case EdgeKind::kPose3Point3: {
+      const auto it = g.sensor_offsets.find(e.sensor_offset_id);
+      const SE3 offset = it == g.sensor_offsets.end() ? SE3() : it->second;
+      return quadratic_form<3>(pose3_point_error(e.point, a.pose3, offset, b.point), e.information);
+    }
+  }
+  throw InputError(g.source, e.line, "", "unknown edge kind");
 }
 
 double total_chi2(const PoseGraph& g) {

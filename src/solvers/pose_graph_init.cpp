@@ -108,7 +108,7 @@ class PoseSystem {
  public:
   PoseSystem(const PoseIndex& ix, int block, const std::vector<std::pair<int, int>>& edges, int rhs,
              const InitOptions& o)
-      : block_(block), rhs_(rhs) {
+      : block_(block) {
     unknown_.assign(ix.vertex.size(), -1);
     int n = 0;
     for (std::size_t k = 0; k < ix.vertex.size(); ++k)
@@ -134,9 +134,10 @@ class PoseSystem {
     }
   }
   int unknown(int pose) const { return unknown_[pose]; }
-  void reset() {
+  /// Clears the system for a new set of values with the same pattern (and rhs columns).
+  void reset(int rhs) {
     A_.set_zero();
-    B_.setZero();
+    B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
   }
   // Residual r = M_a x_a + M_b x_b − c (per RHS column), weight W: adds to the normal equations,
   // moving known (gauge) terms to the right-hand side.
@@ -170,7 +171,7 @@ class PoseSystem {
   }
 
  private:
-  int block_, rhs_;
+  int block_;
   std::vector<int> unknown_;
   BlockSparseMatrix A_;
   Eigen::MatrixXd B_;
@@ -275,7 +276,8 @@ void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
     R[k] = ix.gauge[k] ? g.vertices()[ix.vertex[k]].pose3.rotation().matrix()
                        : project_to_so3(X.middleRows(3 * rot_sys.unknown(static_cast<int>(k)), 3).transpose());
   }
-  PoseSystem pos_sys(ix, 3, pairs, 1, o);
+  PoseSystem& pos_sys = rot_sys;  // same pattern: reuse the symbolic factorization
+  pos_sys.reset(1);
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;

@@ -1,0 +1,47 @@
+// Shared by the benchmarks: dataset location and the reference figures from the issues
+// (best known chi2, fastest peer end-to-end time, one bare CHOLMOD factorize+solve).
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace slamkit::bench {
+
+inline std::filesystem::path data_root() {
+  const char* env = std::getenv("SLAMKIT_DATA");
+  std::filesystem::path p = env && *env ? env : "../shared/datasets";
+  if (p.is_relative()) p = std::filesystem::path(SLAMKIT_SOURCE_DIR) / p;
+  return p.lexically_normal();
+}
+
+struct Reference {
+  std::string file;          ///< under posegraph/
+  double best_chi2;          ///< best known chi2 (g2o definition)
+  double accept_chi2;        ///< the acceptance bound (best · (1 + 1e-4), or the issue's bound)
+  double peer_seconds;       ///< fastest peer end-to-end (g2o, Ceres 2.1, GTSAM 4.3), 0 if none given
+  std::string peer;          ///< who and how
+  double cholmod_ms;         ///< the issue's one-factorize+solve figure, 0 if none given
+  bool speed_goal;           ///< in the issue's speed-goal list (≤ 0.7 × peer)
+};
+
+inline const std::vector<Reference>& references() {
+  static const std::vector<Reference> r = {
+      {"2d/input_INTEL_g2o.g2o", 215.83, 215.83 * (1 + 1e-4), 0.026, "g2o GN", 0, false},
+      {"2d/intel.g2o", 45.0047, 45.0047 * (1 + 1e-4), 0.034, "Ceres", 0, false},
+      {"2d/input_MITb_g2o.g2o", 41.1633, 41.1633 * (1 + 1e-4), 0.012, "g2o linear init + GN", 0, false},
+      {"2d/input_M3500_g2o.g2o", 137.913, 137.913 * (1 + 1e-4), 0.116, "g2o linear init + GN", 9, true},
+      {"2d/input_M3500b_g2o.g2o", 4468.09, 4511.08, 0.16, "g2o linear init (reaches 4511.08)", 0, false},
+      {"2d/city10000.g2o", 511.985, 511.985 * (1 + 1e-4), 0.61, "GTSAM LAGO + LM", 44, true},
+      {"2d/derived/manhattan_odominit.g2o", 3549.04, 3549.04 * (1 + 1e-4), 0.155, "g2o linear init + GN", 0, false},
+      {"2d/derived/CSAIL_P_toro.g2o", 40.5551, 40.5551 * (1 + 1e-4), 0.018, "g2o", 0, false},
+      {"3d/sphere2500.g2o", 727.149, 727.149 * (1 + 1e-4), 0.47, "GTSAM chordal + GN", 53, true},
+      {"3d/torus3D.g2o", 14574.7, 14574.7 * (1 + 1e-4), 1.36, "GTSAM chordal + GN", 117, true},
+      {"3d/parking-garage.g2o", 1.23868, 1.23868 * (1 + 1e-4), 0.16, "GTSAM GN", 15, true},
+      {"3d/derived/cubicle_psd.g2o", 2379.91, 2379.91 * (1 + 1e-4), 1.56, "GTSAM chordal + GN", 131, true},
+  };
+  return r;
+}
+
+}  // namespace slamkit::bench

@@ -1,0 +1,92 @@
+// Micro benchmark: one optimizer iteration (linearize + factorize + solve + retract + cost)
+// against one bare CHOLMOD factorize + solve of the very same Hessian, per dataset.
+// The bound: iteration ≤ 1.3 × bare. Google Benchmark; e.g.
+//   iteration_bench --benchmark_out=bench/results/iteration.json --benchmark_out_format=json
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "bench_data.h"
+#include "slamkit/factors/pose_graph_problem.h"
+#include "slamkit/io/pose_graph_io.h"
+#include "slamkit/linear/normal_equations.h"
+#include "slamkit/linear/sparse_cholesky.h"
+#include "slamkit/solvers/pose_graph_init.h"
+
+using namespace slamkit;
+
+namespace {
+
+// A dataset at its initialized state, with its linear system analyzed once.
+struct Fixture {
+  PoseGraphProblem problem;
+  std::unique_ptr<NormalEquations> ne;
+  std::unique_ptr<SparseCholesky> chol;
+  Values candidate;
+};
+
+Fixture& fixture(const std::string& file) {
+  static std::map<std::string, std::unique_ptr<Fixture>> cache;
+  auto& f = cache[file];
+  if (!f) {
+    f = std::make_unique<Fixture>();
+    PoseGraph g = read_pose_graph((bench::data_root() / "posegraph" / file).string());
+    initialize_pose_graph(g, InitMethod::kAuto, gauge_vertices(g));
+    f->problem = build_pose_graph_problem(g);
+    f->ne = std::make_unique<NormalEquations>(f->problem.graph, f->problem.values);
+    f->chol = make_sparse_cholesky(SparseBackend::kAuto, OrderingMethod::kAuto, 1);
+    f->chol->analyze(f->ne->hessian());
+    f->ne->linearize(f->problem.values, ThreadPool(1));
+    f->candidate = f->problem.values;
+  }
+  return *f;
+}
+
+void bare_cholmod(benchmark::State& state, const std::string& file) {
+  Fixture& f = fixture(file);
+  std::vector<double> x(f.ne->dim());
+  const Eigen::VectorXd b = -f.ne->gradient();
+  for (auto _ : state) {
+    f.chol->factorize(f.ne->hessian());
+    f.chol->solve(b.data(), x.data());
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.counters["nnz_L"] = f.chol->stats().factor_nnz;
+  state.SetLabel(f.chol->stats().ordering);
+}
+
+void iteration(benchmark::State& state, const std::string& file) {
+  Fixture& f = fixture(file);
+  const ThreadPool pool(static_cast<int>(state.range(0)));
+  std::vector<double> x(f.ne->dim());
+  for (auto _ : state) {
+    f.ne->linearize(f.problem.values, pool);
+    f.chol->factorize(f.ne->hessian());
+    const Eigen::VectorXd b = -f.ne->gradient();
+    f.chol->solve(b.data(), x.data());
+    f.ne->retract(f.problem.values, x.data(), f.candidate, pool);
+    benchmark::DoNotOptimize(f.ne->cost(f.candidate, pool));
+  }
+  state.SetLabel(std::to_string(pool.threads()) + " threads");
+}
+
+const int kRegistered = [] {
+  for (const bench::Reference& r : bench::references()) {
+    if (!r.speed_goal) continue;
+    if (!std::filesystem::exists(bench::data_root() / "posegraph" / r.file)) continue;
+    benchmark::RegisterBenchmark(("bare_cholmod/" + r.file).c_str(), bare_cholmod, r.file)
+        ->Unit(benchmark::kMillisecond)
+        ->MinTime(1.0);
+    benchmark::RegisterBenchmark(("iteration/" + r.file).c_str(), iteration, r.file)
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->MinTime(1.0);
+  }
+  return 0;
+}();
+
+}  // namespace
+
+BENCHMARK_MAIN();
