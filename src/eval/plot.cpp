@@ -222,7 +222,8 @@ SvgWriter Plot::render(double width, double height) const {
   std::vector<std::pair<double, std::string>> yt;  // (axis units, label)
   const int ytarget = std::max(2, static_cast<int>(f.height / 55));
   if (log_y_) {
-    for (double k = std::ceil(f.y0); k <= f.y1; k += 1.0) yt.push_back({k, compact_number(std::pow(10.0, k))});
+    for (double k = std::ceil(f.y0); k <= f.y1; k += 1.0)
+      yt.push_back({k, k >= -2 && k <= 3 ? compact_number(std::pow(10.0, k)) : "1e" + std::to_string(static_cast<int>(k))});
     if (yt.size() < 2) {
       yt.clear();
       const std::vector<double> lin = nice_ticks(std::pow(10.0, f.y0), std::pow(10.0, f.y1), ytarget);
@@ -274,7 +275,12 @@ SvgWriter Plot::render(double width, double height) const {
     }
     flush();
   };
-  for (const auto& s : series_) draw_runs(s.x, s.y, SvgWriter::Stroke{s.color.hex(), s.width, s.dash, s.opacity});
+  for (const auto& s : series_) {
+    draw_runs(s.x, s.y, SvgWriter::Stroke{s.color.hex(), s.width, s.dash, s.opacity});
+    if (!s.points) continue;
+    for (std::size_t k = 0; k < std::min(s.x.size(), s.y.size()); ++k)
+      if (std::isfinite(s.x[k]) && f.has_y(s.y[k])) svg.circle(f.px(s.x[k]), f.py(s.y[k]), s.width + 1.2, s.color.hex());
+  }
   double vmin = 0.0, vmax = 1.0;
   std::string colorbar_label;
   for (const auto& p : paths_) {
@@ -368,15 +374,19 @@ BarChart::BarChart(std::string title, std::string value_label, std::vector<std::
       categories_(std::move(categories)),
       series_labels_(std::move(series_labels)) {}
 
-SvgWriter BarChart::render(double width) const {
-  const double bar = 13.0, gap = 3.0, group_gap = 12.0;
+SvgWriter BarChart::render(double width, double min_height) const {
+  const double gap = 3.0, group_gap = 12.0, top = 56.0, bottom = 40.0;
   const std::size_t ns = std::max<std::size_t>(1, series_labels_.size());
+  const double nc = static_cast<double>(std::max<std::size_t>(1, categories_.size()));
+  // Bar thickness: 13 px, or thicker (up to 24 px) to fill min_height.
+  const double fill = ((min_height - top - bottom - group_gap) / nc - group_gap + gap) / static_cast<double>(ns) - gap;
+  const double bar = std::clamp(fill, 13.0, 24.0);
   const double group_h = static_cast<double>(ns) * (bar + gap) - gap;
   double label_w = 40.0;
   for (const auto& c : categories_) label_w = std::max(label_w, text_width(c, kTickSize) + 12.0);
-  const double left = std::min(label_w, 0.4 * width), right = 64.0, top = 56.0, bottom = 40.0;
+  const double left = std::min(label_w, 0.4 * width), right = 64.0;
   const double plot_h = static_cast<double>(categories_.size()) * (group_h + group_gap) + group_gap;
-  const double height = top + plot_h + bottom;
+  const double height = std::max(min_height, top + plot_h + bottom);
   SvgWriter svg(width, height);
   svg.rect(0, 0, width, height, "#ffffff");
   double vmax = 0.0;
@@ -408,13 +418,13 @@ SvgWriter BarChart::render(double width) const {
       svg.rect(left, y, px(v) - left, bar, palette(s).hex());
       char buf[32];
       std::snprintf(buf, sizeof buf, "%.4g", v);
-      svg.text(px(v) + 4, y + bar - 2.5, buf, {kTickSize - 1, "start", "#333333", false, 0.0});
+      svg.text(px(v) + 4, y + bar / 2 + 3.5, buf, {kTickSize - 1, "start", "#333333", false, 0.0});
     }
   }
   svg.end_group();
   svg.line(left, top, left, top + plot_h, axis);
   svg.text(left, 20, title_, {kTitleSize, "start", "#111111", true, 0.0});
-  svg.text(left + pw / 2, height - 8, value_label_, {kLabelSize, "middle", "#222222", false, 0.0});
+  svg.text(left + pw / 2, top + plot_h + 34, value_label_, {kLabelSize, "middle", "#222222", false, 0.0});
   double x = left;
   for (std::size_t s = 0; s < series_labels_.size(); ++s) {
     svg.rect(x, 34, 14, 10, palette(s).hex());

@@ -106,7 +106,10 @@ std::string eval_table(const std::vector<EvalRunData>& runs) {
 
 std::string eval_section(const std::string& id, const std::string& heading, const std::vector<EvalRunData>& runs) {
   std::string h = "<section id=\"" + id + "\">\n<h2>" + esc(heading) + "</h2>\n";
-  h += "<p class=\"meta\">" + esc(runs.front().title) + "</p>\n";
+  std::vector<std::string> titles;
+  for (const auto& r : runs)
+    if (std::find(titles.begin(), titles.end(), r.title) == titles.end()) titles.push_back(r.title);
+  for (const auto& t : titles) h += "<p class=\"meta\">" + esc(t) + "</p>\n";
   h += eval_table(runs);
 
   std::vector<std::string> names;
@@ -121,7 +124,7 @@ std::string eval_section(const std::string& id, const std::string& heading, cons
 
   std::vector<const EvalRunData*> all;
   for (const auto& r : runs) all.push_back(&r);
-  h += "<div class=\"grid\">\n" + figure(bars.render(kHalf)) + figure(plot_error_histogram(all, kHalf, 400)) +
+  h += "<div class=\"grid\">\n" + figure(bars.render(kHalf, 400)) + figure(plot_error_histogram(all, kHalf, 400)) +
        figure(plot_error_over_time(all, kFull, 340)) + "</div>\n";
 
   // Trajectory overlays, one pair of views per reference (runs on different datasets).
@@ -165,6 +168,7 @@ std::string optimize_section(const std::vector<OptimizeRunData>& runs) {
     it.label = tm.label = runs[k].label;
     it.color = tm.color = palette(k);
     it.width = tm.width = 1.8;
+    it.points = tm.points = runs[k].trace.size() <= 60;
     for (const auto& e : runs[k].trace) {
       it.x.push_back(e.iteration);
       it.y.push_back(e.cost);
@@ -233,9 +237,12 @@ std::string render_html_report(const std::vector<ReportInput>& inputs, const Rep
   std::string h = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                   "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>" +
                   esc(options.title) + "</title>\n<style>" + kCss + "</style>\n</head>\n<body>\n<main>\n";
+  std::string counts;
+  for (const auto& [n, what] : {std::pair<std::size_t, const char*>{ate.size(), " APE"}, {rpe.size(), " RPE"},
+                                {opt.size(), " optimization"}})
+    if (n > 0) counts += (counts.empty() ? "" : ", ") + std::to_string(n) + what;
   h += "<h1>" + esc(options.title) + "</h1>\n<p class=\"meta\">" + std::to_string(inputs.size()) + " run" +
-       (inputs.size() == 1 ? "" : "s") + ": " + std::to_string(ate.size()) + " APE, " + std::to_string(rpe.size()) +
-       " RPE, " + std::to_string(opt.size()) + " optimization</p>\n<nav>";
+       (inputs.size() == 1 ? "" : "s") + ": " + counts + "</p>\n<nav>";
   if (!ate.empty()) h += "<a href=\"#ate\">Absolute pose error</a>";
   if (!rpe.empty()) h += "<a href=\"#rpe\">Relative pose error</a>";
   if (!opt.empty()) h += "<a href=\"#optimize\">Optimization</a>";

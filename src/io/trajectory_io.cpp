@@ -205,7 +205,7 @@ Trajectory read_euroc(std::istream& in, const std::string& source) {
     TrajectorySample s;
     const std::int64_t ns = r.integer(0, "timestamp");
     s.stamp_ns = ns;
-    s.stamp = static_cast<double>(ns) * 1e-9;
+    s.stamp = static_cast<double>(ns) / 1e9;  // as evo: float(ns) / 1e9
     const Eigen::Vector3d t = vec3(r, 1, "p_x", "p_y", "p_z");
     const SO3 R = checked_quaternion(r, r.number(4, "q_w"), r.number(5, "q_x"), r.number(6, "q_y"), r.number(7, "q_z"));
     s.T_world_body = SE3(R, t);

@@ -2,8 +2,9 @@
 // estimators (optimizer, filters, VIO), the trajectory readers/writers in io, and eval.
 //
 // Each sample has a stamp in seconds (double) and, when the source had one, the exact
-// integer stamp in nanoseconds (EuRoC/ASL files); then stamp == stamp_ns · 1e-9 up to
-// rounding. Optional per-sample state: velocity of the body in the world frame and IMU
+// integer stamp in nanoseconds (EuRoC/ASL files, plain decimal TUM stamps); then stamp equals
+// stamp_ns / 1e9 up to rounding (readers parse stamps exactly as evo/numpy do, so that
+// association decisions at the max_diff boundary agree with evo). Optional per-sample state: velocity of the body in the world frame and IMU
 // biases (gyroscope, accelerometer, in the body/IMU frame), as in EuRoC state CSVs.
 //
 // Rotation matrices read from a file (KITTI) are rarely exactly orthonormal; T_world_body
@@ -79,10 +80,10 @@ class Trajectory {
     s.T_world_body = T_world_body;
     push_back(std::move(s));
   }
-  /// Appends a sample with an exact nanosecond stamp (stamp = ns · 1e-9).
+  /// Appends a sample with an exact nanosecond stamp (stamp = double(ns) / 1e9).
   void push_back_ns(std::int64_t stamp_ns, const SE3& T_world_body) {
     TrajectorySample s;
-    s.stamp = static_cast<double>(stamp_ns) * 1e-9;
+    s.stamp = static_cast<double>(stamp_ns) / 1e9;
     s.stamp_ns = stamp_ns;
     s.T_world_body = T_world_body;
     push_back(std::move(s));

@@ -31,6 +31,7 @@ class Plot {
     double width = 1.5;
     std::string dash;
     double opacity = 1.0;
+    bool points = false;  ///< also mark every data point (for short series)
   };
 
   Plot(std::string title, std::string x_label, std::string y_label);
@@ -98,7 +99,8 @@ class BarChart {
            std::vector<std::string> series_labels);
   /// values[category][series]
   void set_values(std::vector<std::vector<double>> values) { values_ = std::move(values); }
-  SvgWriter render(double width) const;  ///< height follows from the number of categories
+  /// The height follows from the number of categories; bars thicken to fill min_height.
+  SvgWriter render(double width, double min_height = 0.0) const;
 
  private:
   std::string title_, value_label_;
