@@ -91,9 +91,12 @@ IndexPairs by_angle(const Trajectory& traj, double delta_rad, double tol_rad, bo
   R.reserve(n);
   for (const auto& s : traj) R.push_back(s.rotation_matrix());
   if (all_pairs) {
+    // O(n²): the angle from the trace, tr(Rᵢᵀ Rⱼ) = Σ Rᵢ ∘ Rⱼ, accurate away from 0 and π,
+    // and exact enough to compare with a tolerance band.
     for (std::size_t i = 0; i + 1 < n; ++i) {
       for (std::size_t j = i + 1; j < n; ++j) {
-        if (std::abs(relative_angle(R[i], R[j]) - delta_rad) <= tol_rad) pairs.emplace_back(i, j);
+        const double c = std::clamp(0.5 * (R[i].cwiseProduct(R[j]).sum() - 1.0), -1.0, 1.0);
+        if (std::abs(std::acos(c) - delta_rad) <= tol_rad) pairs.emplace_back(i, j);
       }
     }
     return pairs;

@@ -52,21 +52,22 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
   const double raw = (hi - lo) / target;
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
   const double norm = raw / mag;
-  const double step = (norm < 1.5 ? 1.0 : norm < 3.0 ? 2.0 : norm < 7.0 ? 5.0 : 10.0) * mag;
-  for (double k = std::ceil(lo / step - 1e-9); k * step <= hi + 1e-9 * step; k += 1.0) {
-    const double v = k * step;
-    ticks.push_back(std::abs(v) < 1e-12 * step ? 0.0 : v);
-  }
+  const double m = norm < 1.5 ? 1.0 : norm < 3.0 ? 2.0 : norm < 7.0 ? 5.0 : 10.0;
+  const double step = m * mag;
+  // k · m / 10^e (one rounding) gives 0.6, not 0.6000000000000001, for decimal steps.
+  const double inv = mag < 1.0 ? std::round(1.0 / mag) : 0.0;
+  for (double k = std::ceil(lo / step - 1e-9); k * step <= hi + 1e-9 * step; k += 1.0)
+    ticks.push_back(k == 0.0 ? 0.0 : inv > 0.0 ? (k * m) / inv : k * step);
   return ticks;
 }
 
 std::string tick_label(double v, double step) {
   if (std::abs(v) >= 1e6 || (std::abs(v) > 0 && std::abs(v) < 1e-4)) return compact_number(v);
   const int decimals = step > 0 ? std::clamp(static_cast<int>(-std::floor(std::log10(step) + 1e-9)), 0, 8) : 0;
+  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0.0"
   char buf[48];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s(buf);
-  return s == "-0" ? "0" : s;
+  return buf;
 }
 
 Histogram make_histogram(const std::vector<double>& values, int n_bins, double lo, double hi) {
