@@ -376,7 +376,7 @@ BarChart::BarChart(std::string title, std::string value_label, std::vector<std::
       series_labels_(std::move(series_labels)) {}
 
 SvgWriter BarChart::render(double width, double min_height) const {
-  const double gap = 3.0, group_gap = 12.0, top = 56.0, bottom = 40.0;
+  const double gap = 3.0, group_gap = 12.0, top = category_colors_.empty() ? 56.0 : 34.0, bottom = 40.0;
   const std::size_t ns = std::max<std::size_t>(1, series_labels_.size());
   const double nc = static_cast<double>(std::max<std::size_t>(1, categories_.size()));
   // Bar thickness: 13 px, or thicker (up to 24 px) to fill min_height.
@@ -385,7 +385,7 @@ SvgWriter BarChart::render(double width, double min_height) const {
   const double group_h = static_cast<double>(ns) * (bar + gap) - gap;
   double label_w = 40.0;
   for (const auto& c : categories_) label_w = std::max(label_w, text_width(c, kTickSize) + 12.0);
-  const double left = std::min(label_w, 0.4 * width), right = 64.0;
+  const double left = std::min(label_w, 0.4 * width), right = category_colors_.empty() ? 64.0 : 96.0;
   const double plot_h = static_cast<double>(categories_.size()) * (group_h + group_gap) + group_gap;
   const double height = std::max(min_height, top + plot_h + bottom);
   SvgWriter svg(width, height);
@@ -416,10 +416,19 @@ SvgWriter BarChart::render(double width, double min_height) const {
       const double v = values_[c][s];
       if (!std::isfinite(v)) continue;
       const double y = gy + static_cast<double>(s) * (bar + gap);
-      svg.rect(left, y, px(v) - left, bar, palette(s).hex());
       char buf[32];
       std::snprintf(buf, sizeof buf, "%.4g", v);
-      svg.text(px(v) + 4, y + bar / 2 + 3.5, buf, {kTickSize - 1, "start", "#333333", false, 0.0});
+      std::string label = buf;
+      Rgb color = palette(s);
+      if (c < category_colors_.size()) {  // run colour, lighter for each further series
+        const double w = std::min(0.75, 0.22 * static_cast<double>(s));
+        const Rgb base = category_colors_[c];
+        auto tint = [w](unsigned char ch) { return static_cast<unsigned char>(std::lround(ch + w * (255 - ch))); };
+        color = Rgb{tint(base.r), tint(base.g), tint(base.b)};
+        if (s < series_labels_.size()) label = series_labels_[s] + " " + label;
+      }
+      svg.rect(left, y, px(v) - left, bar, color.hex());
+      svg.text(px(v) + 4, y + bar / 2 + 3.5, label, {kTickSize - 1, "start", "#333333", false, 0.0});
     }
   }
   svg.end_group();
@@ -427,7 +436,7 @@ SvgWriter BarChart::render(double width, double min_height) const {
   svg.text(left, 20, title_, {kTitleSize, "start", "#111111", true, 0.0});
   svg.text(left + pw / 2, top + plot_h + 34, value_label_, {kLabelSize, "middle", "#222222", false, 0.0});
   double x = left;
-  for (std::size_t s = 0; s < series_labels_.size(); ++s) {
+  for (std::size_t s = 0; category_colors_.empty() && s < series_labels_.size(); ++s) {
     svg.rect(x, 34, 14, 10, palette(s).hex());
     svg.text(x + 19, 43, series_labels_[s], {kLegendSize, "start", "#222222", false, 0.0});
     x += 36 + text_width(series_labels_[s], kLegendSize);

@@ -112,21 +112,6 @@ std::string eval_section(const std::string& id, const std::string& heading, cons
   for (const auto& t : titles) h += "<p class=\"meta\">" + esc(t) + "</p>\n";
   h += eval_table(runs);
 
-  std::vector<std::string> names;
-  std::vector<std::vector<double>> values;
-  for (const auto& r : runs) {
-    names.push_back(r.label);
-    values.push_back({r.stats.rmse, r.stats.mean, r.stats.median, r.stats.max});
-  }
-  BarChart bars("Statistics per run", runs.front().unit.empty() ? "error" : "error [" + runs.front().unit + "]",
-                names, {"rmse", "mean", "median", "max"});
-  bars.set_values(values);
-
-  std::vector<const EvalRunData*> all;
-  for (const auto& r : runs) all.push_back(&r);
-  h += "<div class=\"grid\">\n" + figure(bars.render(kHalf, 400)) + figure(plot_error_histogram(all, kHalf, 400)) +
-       figure(plot_error_over_time(all, kFull, 340)) + "</div>\n";
-
   // Trajectory overlays, one pair of views per reference (runs on different datasets).
   std::map<std::string, std::vector<const EvalRunData*>> by_reference;
   for (const auto& r : runs) by_reference[r.reference + "#" + std::to_string(r.ref_xyz.size())].push_back(&r);
@@ -137,6 +122,24 @@ std::string eval_section(const std::string& id, const std::string& heading, cons
   }
   h += "<h3>Error along the path</h3>\n<div class=\"grid\">\n";
   for (const auto& r : runs) h += figure(plot_error_along_path(r, kHalf, 480));
+  h += "</div>\n";
+
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> values;
+  for (const auto& r : runs) {
+    names.push_back(r.label);
+    values.push_back({r.stats.rmse, r.stats.mean, r.stats.median, r.stats.max});
+  }
+  BarChart bars("Statistics per run", runs.front().unit.empty() ? "error" : "error [" + runs.front().unit + "]",
+                names, {"rmse", "mean", "median", "max"});
+  bars.set_values(values);
+  std::vector<Rgb> colors;
+  for (std::size_t k = 0; k < runs.size(); ++k) colors.push_back(palette(k));
+  bars.set_category_colors(colors);
+  std::vector<const EvalRunData*> all;
+  for (const auto& r : runs) all.push_back(&r);
+  h += "<h3>Error statistics</h3>\n<div class=\"grid\">\n" + figure(bars.render(kHalf, 400)) +
+       figure(plot_error_histogram(all, kHalf, 400)) + figure(plot_error_over_time(all, kFull, 340));
   return h + "</div>\n</section>\n";
 }
 

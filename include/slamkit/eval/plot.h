@@ -99,6 +99,9 @@ class BarChart {
            std::vector<std::string> series_labels);
   /// values[category][series]
   void set_values(std::vector<std::vector<double>> values) { values_ = std::move(values); }
+  /// Colour each category (e.g. with its run's colour); the series then differ in lightness
+  /// and are named next to their values instead of in a legend.
+  void set_category_colors(std::vector<Rgb> colors) { category_colors_ = std::move(colors); }
   /// The height follows from the number of categories; bars thicken to fill min_height.
   SvgWriter render(double width, double min_height = 0.0) const;
 
@@ -106,6 +109,7 @@ class BarChart {
   std::string title_, value_label_;
   std::vector<std::string> categories_, series_labels_;
   std::vector<std::vector<double>> values_;
+  std::vector<Rgb> category_colors_;
 };
 
 /// Tick positions covering [lo, hi] with about `target` steps of 1, 2 or 5 × 10^k.
