@@ -52,10 +52,12 @@ void print_summary(std::ostream& os, const EvalResult& r, const RunSource& src) 
   os << eval_title(r.options) << "\n\n";
   os << "  estimate   " << src.est_path << " (" << src.est_format << ", " << src.est_poses << " poses)\n";
   os << "  reference  " << src.ref_path << " (" << src.ref_format << ", " << src.ref_poses << " poses)\n";
-  os << "  matched    " << r.association.size() << " poses "
-     << (r.association.by_index ? "by index" : "by timestamp (max. diff. " + std::to_string(r.options.association.max_diff) +
-                                                   " s, offset " + std::to_string(r.options.association.offset) + " s)")
-     << "\n";
+  os << "  matched    " << r.association.size() << " poses ";
+  if (r.association.by_index)
+    os << "by index\n";
+  else
+    os << "by timestamp (max. diff. " << r.options.association.max_diff << " s, offset " << r.options.association.offset
+       << " s)\n";
   os << "  alignment  " << describe(r.options.align);
   if (r.options.align == AlignmentMode::kSim3 || r.options.align == AlignmentMode::kScale)
     os << ", scale " << std::setprecision(9) << r.alignment.scale;

@@ -25,7 +25,9 @@ void expect_input_error(F f, int line, const std::string& field, const std::stri
     EXPECT_EQ(e.line(), line) << e.what();
     EXPECT_EQ(e.field(), field) << e.what();
     EXPECT_NE(std::string(e.what()).find("mem.txt:" + std::to_string(line) + ":"), std::string::npos) << e.what();
-    if (!needle.empty()) EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    if (!needle.empty()) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -2,15 +2,17 @@
 // estimators (optimizer, filters, VIO), the trajectory readers/writers in io, and eval.
 //
 // Each sample has a stamp in seconds (double) and, when the source had one, the exact
-// integer stamp in nanoseconds (EuRoC/ASL files, plain decimal TUM stamps); then stamp equals
-// stamp_ns / 1e9 up to rounding (readers parse stamps exactly as evo/numpy do, so that
-// association decisions at the max_diff boundary agree with evo). Optional per-sample state: velocity of the body in the world frame and IMU
-// biases (gyroscope, accelerometer, in the body/IMU frame), as in EuRoC state CSVs.
+// integer stamp in nanoseconds (EuRoC/ASL files, plain decimal TUM stamps); stamp equals
+// stamp_ns / 1e9 up to rounding. Readers parse stamps as evo/numpy do, so association
+// decisions at the max_diff boundary agree with evo. Optional per-sample state: velocity of
+// the body in the world frame and IMU biases (gyroscope, accelerometer, in the body/IMU
+// frame), as in EuRoC state CSVs.
 //
 // Rotation matrices read from a file (KITTI) are rarely exactly orthonormal; T_world_body
-// holds the nearest rotation, and source_rotation keeps the matrix as read so that metrics
-// computed on it agree with tools that use the raw matrices (evo) to the last digit. Code that
-// changes T_world_body must reset or update source_rotation; rotation_matrix() reads it.
+// holds a rotation projected from the matrix, and source_rotation keeps the matrix as read,
+// so that metrics computed on it agree with tools that use the raw matrices (evo) to the
+// last digits. Code that changes T_world_body must reset or update source_rotation;
+// rotation_matrix() reads it.
 //
 // Invariants: stamps are non-decreasing (equal stamps are allowed: real files have them);
 // a trajectory without timestamps (KITTI) uses the sample index as stamp and reports
