@@ -376,18 +376,20 @@ BarChart::BarChart(std::string title, std::string value_label, std::vector<std::
       series_labels_(std::move(series_labels)) {}
 
 SvgWriter BarChart::render(double width, double min_height) const {
-  const double gap = 3.0, group_gap = 12.0, top = category_colors_.empty() ? 56.0 : 34.0, bottom = 40.0;
+  const double gap = 3.0, group_gap = 12.0, bottom = 40.0;
+  const double header = category_colors_.empty() ? 56.0 : 34.0;  // title (+ legend)
   const std::size_t ns = std::max<std::size_t>(1, series_labels_.size());
   const double nc = static_cast<double>(std::max<std::size_t>(1, categories_.size()));
-  // Bar thickness: 13 px, or thicker (up to 24 px) to fill min_height.
-  const double fill = ((min_height - top - bottom - group_gap) / nc - group_gap + gap) / static_cast<double>(ns) - gap;
+  // Bar thickness: 13 px, or thicker (up to 24 px) to fill min_height; the rest centres the bars.
+  const double fill = ((min_height - header - bottom - group_gap) / nc - group_gap + gap) / static_cast<double>(ns) - gap;
   const double bar = std::clamp(fill, 13.0, 24.0);
   const double group_h = static_cast<double>(ns) * (bar + gap) - gap;
   double label_w = 40.0;
   for (const auto& c : categories_) label_w = std::max(label_w, text_width(c, kTickSize) + 12.0);
   const double left = std::min(label_w, 0.4 * width), right = category_colors_.empty() ? 64.0 : 96.0;
   const double plot_h = static_cast<double>(categories_.size()) * (group_h + group_gap) + group_gap;
-  const double height = std::max(min_height, top + plot_h + bottom);
+  const double height = std::max(min_height, header + plot_h + bottom);
+  const double top = header + 0.5 * (height - (header + plot_h + bottom));
   SvgWriter svg(width, height);
   svg.rect(0, 0, width, height, "#ffffff");
   double vmax = 0.0;

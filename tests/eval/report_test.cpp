@@ -19,7 +19,8 @@ std::size_t count(const std::string& s, const std::string& what) {
   return n;
 }
 
-nlohmann::json eval_doc(MetricKind kind, const std::string& label, double noise) {
+nlohmann::json eval_doc(MetricKind kind, const std::string& label, double noise,
+                        PoseRelation relation = PoseRelation::kTranslation) {
   Trajectory ref, est;
   for (int k = 0; k < 200; ++k) {
     const double s = 0.05 * k;
@@ -30,6 +31,7 @@ nlohmann::json eval_doc(MetricKind kind, const std::string& label, double noise)
   EvalOptions opt;
   opt.kind = kind;
   opt.align = AlignmentMode::kSe3;
+  opt.relation = relation;
   return eval_result_to_json(evaluate(est, ref, opt), RunSource{label, "est.txt", "tum", "gt.txt", "tum", 200, 200});
 }
 
@@ -68,6 +70,23 @@ TEST(Report, SelfContainedPageWithTablesAndPlots) {
   EXPECT_GE(count(html, "<polyline"), 20u);
   EXPECT_NE(html.find("Cost per iteration"), std::string::npos);
   EXPECT_NE(html.find("class=\"best\""), std::string::npos);
+}
+
+TEST(Report, RunsWithDifferentUnitsGetTheirOwnSections) {
+  const std::vector<ReportInput> in = {{"r.json", eval_doc(MetricKind::kRpe, "rpe", 0.05)},
+                                       {"a.json", eval_doc(MetricKind::kAte, "trans", 0.05)},
+                                       {"b.json", eval_doc(MetricKind::kAte, "angle", 0.05, PoseRelation::kAngleDeg)},
+                                       {"c.json", eval_doc(MetricKind::kAte, "trans 2", 0.02)}};
+  const std::string html = render_html_report(in, {});
+  const std::size_t ate = html.find("<section id=\"ate\">"), ate1 = html.find("<section id=\"ate-1\">");
+  const std::size_t rpe = html.find("<section id=\"rpe\">");
+  ASSERT_NE(ate, std::string::npos);
+  ASSERT_NE(ate1, std::string::npos);
+  ASSERT_NE(rpe, std::string::npos);
+  EXPECT_LT(ate, ate1);  // APE first, in order of appearance, then RPE
+  EXPECT_LT(ate1, rpe);
+  EXPECT_NE(html.find("Absolute pose error (APE / ATE), angle_deg [deg]"), std::string::npos);
+  EXPECT_EQ(count(html, "<table"), 3u);
 }
 
 TEST(Report, UnknownKindsAndMalformedRunsAreClearErrors) {
