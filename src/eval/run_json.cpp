@@ -193,17 +193,16 @@ EvalRunData eval_run_from_json(const json& j, const std::string& source) {
   const json& s = member(j, "series", source);
   d.time = numbers(s, "time", source);
   d.error = numbers(s, "error", source);
-  for (double v : numbers(s, "index", source)) {
-    if (v < 0 || v != std::floor(v)) bad(source, "series.index", "holds a non-index value");
-    d.index.push_back(static_cast<std::size_t>(v));
-  }
   d.est_xyz = points(s, "est_xyz", source);
   d.ref_xyz = points(s, "ref_xyz", source);
+  for (double v : numbers(s, "index", source)) {
+    if (v < 0 || v != std::floor(v) || v >= static_cast<double>(d.est_xyz.size()))
+      bad(source, "series.index", "holds a value that is not an index of est_xyz");
+    d.index.push_back(static_cast<std::size_t>(v));
+  }
   if (d.time.size() != d.error.size() || d.index.size() != d.error.size())
     bad(source, "series", "time, error and index must have the same length");
   if (d.est_xyz.size() != d.ref_xyz.size()) bad(source, "series", "est_xyz and ref_xyz must have the same length");
-  for (std::size_t i : d.index)
-    if (i >= d.est_xyz.size()) bad(source, "series.index", "index beyond est_xyz");
   return d;
 }
 

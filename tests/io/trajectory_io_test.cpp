@@ -8,6 +8,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <typeinfo>
 
 #include "slamkit/core/error.h"
 #include "testing/data.h"
@@ -216,6 +217,44 @@ TEST(TrajectoryIo, StampsWithoutNanosecondsAreRoundedForEuroc) {
   const Trajectory back = parse(render(t, TrajectoryFormat::kEuroc), TrajectoryFormat::kEuroc);
   EXPECT_EQ(*back[0].stamp_ns, 1500000000);
   EXPECT_EQ(*back[1].stamp_ns, 2000000002);
+}
+
+TEST(TrajectoryIo, MutatedInputGivesInputErrorsNeverAnythingElse) {
+  // A small fuzzer: random byte edits of valid files either parse or throw InputError.
+  std::mt19937 rng(11);
+  const std::pair<TrajectoryFormat, std::string> seeds[] = {
+      {TrajectoryFormat::kTum, "# c\n1.0 1 2 3 0 0 0 1\n1.5 1 2 3 0 0 0.6 0.8\n"},
+      {TrajectoryFormat::kEuroc, "#h\n10,1,2,3,1,0,0,0,0.1,0.2,0.3,0,0,0,0,0,0\n20,1,2,3,0.8,0.6,0,0,0,0,0,0,0,0,0,0,0\n"},
+      {TrajectoryFormat::kKitti, "1 0 0 1 0 1 0 2 0 0 1 3\n0 -1 0 4 1 0 0 5 0 0 1 6\n"},
+      {TrajectoryFormat::kSlamkit, "# slamkit trajectory 1\n# meta a=b\n1 1 2 3 0 0 0 1 0 0 0\n2 1 2 3 0 0 0 1 0 0 0\n"}};
+  const std::string alphabet = "0123456789.-+eE,# \t\nnaix";
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(alphabet.size()) - 1);
+  int parsed = 0, rejected = 0;
+  for (const auto& [format, seed] : seeds) {
+    for (int trial = 0; trial < 3000; ++trial) {
+      std::string text = seed;
+      const int edits = 1 + trial % 4;
+      for (int e = 0; e < edits; ++e) {
+        std::uniform_int_distribution<std::size_t> pos(0, text.size() - 1);
+        const std::size_t p = pos(rng);
+        switch (rng() % 3) {
+          case 0: text[p] = alphabet[static_cast<std::size_t>(pick(rng))]; break;
+          case 1: text.insert(p, 1, alphabet[static_cast<std::size_t>(pick(rng))]); break;
+          default: text.erase(p, 1);
+        }
+      }
+      try {
+        parse(text, format);
+        ++parsed;
+      } catch (const InputError&) {
+        ++rejected;
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << to_string(format) << ": unexpected " << typeid(e).name() << ": " << e.what() << "\n" << text;
+      }
+    }
+  }
+  EXPECT_GT(parsed, 100);
+  EXPECT_GT(rejected, 1000);
 }
 
 TEST(TrajectoryIo, ReadsTheDatasetFiles) {
