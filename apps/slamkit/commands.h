@@ -11,5 +11,7 @@ namespace slamkit::cli {
 // pose-graph tools (issue: foundation)
 // optimizer (issue: graph optimization)
 // evaluation and reports (issue: trajectory evaluation)
+void add_eval_command(CLI::App& app);    // cmd_eval.cpp: eval ate|rpe
+void add_report_command(CLI::App& app);  // cmd_report.cpp: report RUN.json... -o report.html
 
 }  // namespace slamkit::cli

@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   // pose-graph tools
   // optimizer
   // evaluation and reports
+  slamkit::cli::add_eval_command(app);
+  slamkit::cli::add_report_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
