@@ -10,6 +10,7 @@
 #include "slamkit/core/pose_graph_error.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/io/pose_graph_io.h"
+#include "slamkit/io/trajectory_io.h"
 #include "slamkit/sim/pose_graph_generator.h"
 
 namespace slamkit::cli {
@@ -129,6 +130,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
     write_pose_graph(g, a.output, PoseGraphFormat::kAuto, &warnings);
     for (const std::string& w : warnings) std::cerr << "slamkit: warning: " << w << "\n";
   }
+  if (!a.trajectory.empty()) write_trajectory(a.trajectory, to_trajectory(g), TrajectoryFormat::kTum);
   if (!a.json.empty()) {
     nlohmann::json j = nlohmann::json::parse(r.summary.to_json());
     j["label"] = a.label.empty() ? a.input + " (" + a.solver + ", " + to_string(r.init.used) + ")" : a.label;

@@ -148,6 +148,22 @@ std::size_t count_connected_components(const PoseGraph& g) {
   return n;
 }
 
+Trajectory to_trajectory(const PoseGraph& g) {
+  std::vector<const GraphVertex*> poses;
+  for (const GraphVertex& v : g.vertices())
+    if (v.kind == VertexKind::kPose2 || v.kind == VertexKind::kPose3) poses.push_back(&v);
+  std::sort(poses.begin(), poses.end(), [](const GraphVertex* a, const GraphVertex* b) { return a->id < b->id; });
+  Trajectory t;
+  for (const GraphVertex* v : poses) {
+    const SE3 pose = v->kind == VertexKind::kPose3
+                         ? v->pose3
+                         : SE3(SO3::exp(Eigen::Vector3d(0, 0, v->pose2.theta())),
+                               Eigen::Vector3d(v->pose2.x(), v->pose2.y(), 0.0));
+    t.push_back(static_cast<double>(v->id), pose);
+  }
+  return t;
+}
+
 std::vector<std::int64_t> gauge_vertices(const PoseGraph& g, std::vector<std::string>* notes) {
   const auto& vs = g.vertices();
   UnionFind uf(vs.size());

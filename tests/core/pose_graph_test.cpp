@@ -65,3 +65,24 @@ TEST(PoseGraph, OdometryEdgesAreConsecutiveIds) {
 
 }  // namespace
 }  // namespace slamkit
+
+namespace slamkit {
+namespace {
+
+TEST(PoseGraph, TrajectoryIsPosesInIdOrder) {
+  PoseGraph g;
+  GraphVertex a{5, VertexKind::kPose2}, b{2, VertexKind::kPose2}, p{9, VertexKind::kPoint2};
+  a.pose2 = SE2(1, 2, 0.5);
+  g.add_vertex(a);
+  g.add_vertex(b);
+  g.add_vertex(p);
+  const Trajectory t = to_trajectory(g);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].stamp, 2.0);
+  EXPECT_EQ(t[1].stamp, 5.0);
+  EXPECT_TRUE(t[1].T_world_body.translation().isApprox(Eigen::Vector3d(1, 2, 0)));
+  EXPECT_NEAR(t[1].T_world_body.rotation().log().z(), 0.5, 1e-15);
+}
+
+}  // namespace
+}  // namespace slamkit

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "slamkit/core/trajectory.h"
 #include "slamkit/geometry/se2.h"
 #include "slamkit/geometry/se3.h"
 
@@ -92,6 +93,10 @@ std::size_t count_connected_components(const PoseGraph& g);
 /// each choice made (missing FIX, several components) to `notes` if given.
 /// Throws InputError if a FIX names an unknown vertex.
 std::vector<std::int64_t> gauge_vertices(const PoseGraph& g, std::vector<std::string>* notes = nullptr);
+
+/// The pose vertices as a trajectory in id order, the id as the timestamp (pose graphs have no
+/// times); 2D poses become SE(3) poses in the z = 0 plane. Landmarks are left out.
+Trajectory to_trajectory(const PoseGraph& g);
 
 /// Gives every vertex without an estimate one, by composing measurements outward from the
 /// vertices that have one: first along the odometry chain, then breadth-first over all edges.
