@@ -25,10 +25,11 @@ inline bool running_in_ci() {
 
 }  // namespace slamkit::testing
 
-/// Declares `path` = data_root()/relative, or skips (fails under CI=true) when it is missing.
-#define SLAMKIT_REQUIRE_DATA(path, relative)                                                   \
-  const std::filesystem::path path = ::slamkit::testing::data_root() / (relative);            \
-  if (!std::filesystem::exists(path)) {                                                        \
-    if (::slamkit::testing::running_in_ci()) FAIL() << "dataset missing under CI: " << path;   \
-    GTEST_SKIP() << "SKIPPED: dataset not found: " << path << " (set SLAMKIT_DATA)";           \
+/// Declares `var` = data_root()/relative, or skips (fails under CI=true) when it is missing.
+/// (The parameter must not be called `path`: it would replace std::filesystem::path.)
+#define SLAMKIT_REQUIRE_DATA(var, relative)                                                    \
+  const std::filesystem::path var = ::slamkit::testing::data_root() / (relative);             \
+  if (!std::filesystem::exists(var)) {                                                         \
+    if (::slamkit::testing::running_in_ci()) FAIL() << "dataset missing under CI: " << var;    \
+    GTEST_SKIP() << "SKIPPED: dataset not found: " << var << " (set SLAMKIT_DATA)";            \
   }
