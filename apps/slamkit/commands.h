@@ -9,6 +9,8 @@
 namespace slamkit::cli {
 
 // pose-graph tools (issue: foundation)
+void add_info_command(CLI::App& app);     // cmd_info.cpp
+void add_convert_command(CLI::App& app);  // cmd_convert.cpp
 // optimizer (issue: graph optimization)
 // evaluation and reports (issue: trajectory evaluation)
 void add_eval_command(CLI::App& app);    // cmd_eval.cpp: eval ate|rpe

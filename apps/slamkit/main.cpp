@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("slamkit ") + SLAMKIT_VERSION);
   app.require_subcommand(1);
   // pose-graph tools
+  slamkit::cli::add_info_command(app);
+  slamkit::cli::add_convert_command(app);
   // optimizer
   // evaluation and reports
   slamkit::cli::add_eval_command(app);

@@ -26,6 +26,7 @@ inline bool running_in_ci() {
 }  // namespace slamkit::testing
 
 /// Declares `var` = data_root()/relative, or skips (fails under CI=true) when it is missing.
+/// (The parameter must not be called `path`: it would replace std::filesystem::path.)
 #define SLAMKIT_REQUIRE_DATA(var, relative)                                                    \
   const std::filesystem::path var = ::slamkit::testing::data_root() / (relative);             \
   if (!std::filesystem::exists(var)) {                                                         \
