@@ -57,7 +57,8 @@ struct Se3Error {
     const T s = Qe.w() < T(0) ? T(-1) : T(1);
     Eigen::Matrix<T, 6, 1> e;
     e << te, s * Qe.vec();
-    Eigen::Map<Eigen::Matrix<T, 6, 1>>(residual) = L_.cast<T>() * e;
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
+    out = L_.cast<T>() * e;
     return true;
   }
   SE3 z_;

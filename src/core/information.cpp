@@ -46,7 +46,8 @@ Eigen::MatrixXd project_to_psd(const Eigen::MatrixXd& omega, double relative_flo
   Eigen::VectorXd lambda = eig.eigenvalues();
   const double floor = relative_floor * std::max(lambda.maxCoeff(), 0.0);
   lambda = lambda.cwiseMax(floor);
-  return eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+  const Eigen::MatrixXd P = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+  return 0.5 * (P + P.transpose());  // exactly symmetric, not just to rounding
 }
 
 InformationHealth check_information(const PoseGraph& g) {

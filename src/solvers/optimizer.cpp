@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "slamkit/core/error.h"
 #include "slamkit/core/parallel.h"
@@ -176,8 +177,10 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
           s.time_linearize_s += now_s() - t0;
           it.gradient_norm = ne.gradient().lpNorm<Eigen::Infinity>();
         } else if (std::abs(actual) <= options_.function_tolerance * previous) {
-          finish(Termination::kFunctionTolerance, "relative cost change " + std::to_string(std::abs(actual) / previous) +
-                                                      " <= function tolerance");
+          char buf[96];
+          std::snprintf(buf, sizeof(buf), "relative cost change %.3e <= %.1e", std::abs(actual) / previous,
+                        options_.function_tolerance);
+          finish(Termination::kFunctionTolerance, buf);
           done = true;
         } else if (small_step) {
           finish(Termination::kParameterTolerance, "step norm below parameter tolerance");
