@@ -74,27 +74,46 @@ Eigen::MatrixXd NoiseModel::information_matrix() const {
 namespace {
 // v ← R v in place for upper-triangular R: row i reads only v[k ≥ i], which later rows
 // (i' > i) never overwrite before use. No temporaries, no allocation.
-inline void upper_times_in_place(const Eigen::MatrixXd& R, double* v, int n) {
+inline void upper_times_in_place(const double* R, int n, double* v) {
   for (int i = 0; i < n; ++i) {
     double s = 0.0;
-    for (int k = i; k < n; ++k) s += R(i, k) * v[k];
+    for (int k = i; k < n; ++k) s += R[i + k * n] * v[k];
     v[i] = s;
+  }
+}
+// The same for the common fixed sizes, as one small dense product per column block.
+template <int N>
+void upper_times_columns(const double* R, double* M, int cols) {
+  const Eigen::Map<const Eigen::Matrix<double, N, N>> Rm(R);
+  for (int c = 0; c < cols; ++c) {
+    Eigen::Map<Eigen::Matrix<double, N, 1>> v(M + static_cast<std::ptrdiff_t>(c) * N);
+    // A plain fixed-size product (the zeros below the diagonal included) unrolls and
+    // vectorizes; Eigen's triangular kernel is a generic runtime loop, several times slower.
+    const Eigen::Matrix<double, N, 1> w = Rm.lazyProduct(v);
+    v = w;
   }
 }
 }  // namespace
 
-void NoiseModel::whiten(double* r) const {
+void NoiseModel::whiten(double* r) const { whiten_jacobian(r, 1); }
+
+void NoiseModel::whiten_jacobian(double* J, int cols) const {
   switch (kind_) {
     case Kind::kUnit: return;
     case Kind::kDiagonal:
-      for (int i = 0; i < dim_; ++i) r[i] *= diag_[i];
+      for (int c = 0; c < cols; ++c)
+        for (int i = 0; i < dim_; ++i) J[static_cast<std::ptrdiff_t>(c) * dim_ + i] *= diag_[i];
       return;
-    case Kind::kDense: upper_times_in_place(upper_, r, dim_); return;
+    case Kind::kDense:
+      switch (dim_) {
+        case 2: return upper_times_columns<2>(upper_.data(), J, cols);
+        case 3: return upper_times_columns<3>(upper_.data(), J, cols);
+        case 6: return upper_times_columns<6>(upper_.data(), J, cols);
+        default:
+          for (int c = 0; c < cols; ++c) upper_times_in_place(upper_.data(), dim_, J + static_cast<std::ptrdiff_t>(c) * dim_);
+      }
+      return;
   }
-}
-
-void NoiseModel::whiten_jacobian(double* J, int cols) const {
-  for (int c = 0; c < cols; ++c) whiten(J + static_cast<std::ptrdiff_t>(c) * dim_);
 }
 
 }  // namespace slamkit

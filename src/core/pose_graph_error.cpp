@@ -18,19 +18,31 @@ Eigen::Vector3d pose2_edge_error(const SE2& Z, const SE2& Xi, const SE2& Xj, Eig
 }
 
 Vector6d pose3_edge_error(const SE3& Z, const SE3& Xi, const SE3& Xj, Matrix6d* J_e_Xi, Matrix6d* J_e_Xj) {
-  const SE3 A = Xi.between(Xj);
-  const SE3 E = Z.between(A);
-  const Eigen::Quaterniond& q = E.rotation().quaternion();
+  // A = Xi⁻¹ Xj, E = Z⁻¹ A, all with quaternions; matrices only where the Jacobians need them.
+  const Eigen::Quaterniond& qi = Xi.rotation().quaternion();
+  const Eigen::Quaterniond qz_inv = Z.rotation().quaternion().conjugate();
+  const Eigen::Quaterniond qa = qi.conjugate() * Xj.rotation().quaternion();
+  const Eigen::Vector3d ta = qi.conjugate() * (Xj.translation() - Xi.translation());
+  const Eigen::Quaterniond q = qz_inv * qa;
   const double s = q.w() < 0.0 ? -1.0 : 1.0;  // g2o normalizes to w ≥ 0
   Vector6d e;
-  e << E.translation(), s * q.vec();
+  e << qz_inv * (ta - Z.translation()), s * q.vec();
   if (J_e_Xi || J_e_Xj) {
-    // ∂ vec(q ⊗ (1, φ/2)) / ∂φ = ½ (w I + [v]×)
-    Matrix6d J_E = Matrix6d::Zero();
-    J_E.topLeftCorner<3, 3>() = E.rotation().matrix();
-    J_E.bottomRightCorner<3, 3>() = 0.5 * s * (q.w() * Eigen::Matrix3d::Identity() + skew(q.vec()));
-    if (J_e_Xj) *J_e_Xj = J_E;
-    if (J_e_Xi) *J_e_Xi = -J_E * A.inverse().adjoint();
+    // J_E = diag(R_E, Q) with Q = ∂ vec(q ⊗ (1, φ/2)) / ∂φ = ½ (w I + [v]×). Then
+    //   J_j = J_E,   J_i = −J_E Ad(A⁻¹) = [[−R_zᵀ, R_zᵀ [t_A]×], [0, −Q R_Aᵀ]]   (R_E R_Aᵀ = R_zᵀ).
+    const Eigen::Matrix3d Rzt = qz_inv.toRotationMatrix();
+    const Eigen::Matrix3d Q = 0.5 * s * (q.w() * Eigen::Matrix3d::Identity() + skew(q.vec()));
+    if (J_e_Xj) {
+      J_e_Xj->setZero();
+      J_e_Xj->topLeftCorner<3, 3>() = q.toRotationMatrix();
+      J_e_Xj->bottomRightCorner<3, 3>() = Q;
+    }
+    if (J_e_Xi) {
+      J_e_Xi->topLeftCorner<3, 3>() = -Rzt;
+      J_e_Xi->topRightCorner<3, 3>() = Rzt * skew(ta);
+      J_e_Xi->bottomLeftCorner<3, 3>().setZero();
+      J_e_Xi->bottomRightCorner<3, 3>() = -Q * qa.toRotationMatrix().transpose();
+    }
   }
   return e;
 }

@@ -15,7 +15,7 @@ BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<st
   rows_ = block_starts_[nb];
 
   for (auto& [i, j] : blocks)
-    if (i > j) std::swap(i, j);
+    if (i < j) std::swap(i, j);  // lower triangle: i ≥ j
   for (int i = 0; i < nb; ++i) blocks.emplace_back(i, i);
   // Sort by (column, row) and drop duplicates.
   std::sort(blocks.begin(), blocks.end(), [](const auto& a, const auto& b) {
@@ -52,7 +52,7 @@ BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<st
     std::ptrdiff_t row_offset = 0;
     for (int k = block_col_ptr_[j]; k < block_col_ptr_[j + 1]; ++k) {
       block_value_offset_[k] = base + row_offset;
-      if (block_rows_[k] == j)
+      if (block_rows_[k] == j)  // the diagonal block comes first in its column
         for (int c = 0; c < block_dims_[j]; ++c)
           diag_pos_[block_starts_[j] + c] = base + row_offset + static_cast<std::ptrdiff_t>(c) * col_heights_[j] + c;
       row_offset += block_dims_[block_rows_[k]];
@@ -93,7 +93,7 @@ void BlockSparseMatrix::multiply(const double* x, double* y) const {
       const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> B(
           values_.data() + block_value_offset_[k], di, dj, Eigen::OuterStride<>(col_heights_[j]));
       Eigen::Map<Eigen::VectorXd>(y + si, di).noalias() += B * Eigen::Map<const Eigen::VectorXd>(x + sj, dj);
-      if (i != j)
+      if (i != j)  // the mirrored upper block
         Eigen::Map<Eigen::VectorXd>(y + sj, dj).noalias() += B.transpose() * Eigen::Map<const Eigen::VectorXd>(x + si, di);
     }
   }

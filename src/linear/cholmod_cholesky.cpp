@@ -27,7 +27,7 @@ void set_blas_threads(int threads) {
   if (auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(threads);
 }
 
-cholmod_sparse wrap_upper(int n, const std::vector<int>& col_ptr, const std::vector<int>& rows, double* values) {
+cholmod_sparse wrap_lower(int n, const std::vector<int>& col_ptr, const std::vector<int>& rows, double* values) {
   cholmod_sparse A;
   std::memset(&A, 0, sizeof(A));
   A.nrow = A.ncol = static_cast<size_t>(n);
@@ -35,7 +35,7 @@ cholmod_sparse wrap_upper(int n, const std::vector<int>& col_ptr, const std::vec
   A.p = const_cast<int*>(col_ptr.data());
   A.i = const_cast<int*>(rows.data());
   A.x = values;
-  A.stype = 1;  // symmetric, upper triangle used
+  A.stype = -1;  // symmetric, lower triangle used
   A.itype = CHOLMOD_INT;
   A.xtype = values ? CHOLMOD_REAL : CHOLMOD_PATTERN;
   A.dtype = CHOLMOD_DOUBLE;
@@ -85,28 +85,27 @@ class CholmodCholesky final : public SparseCholesky {
     const double t0 = now_s();
     if (L_) cholmod_free_factor(&L_, &c_);
     n_ = A.rows();
-    if (block_order) {
+    cholmod_sparse S = wrap_lower(n_, A.col_ptr(), A.row_index(), nullptr);
+    c_.nmethods = 1;
+    if (!block_order) {
+      // A is stored in elimination order (and postordered): CHOLMOD factorizes it as is,
+      // the fastest path (no transposition or permutation of A per factorization).
+      c_.method[0].ordering = CHOLMOD_NATURAL;
+      c_.postorder = 0;
+      stats_.ordering = "as stored";
+      L_ = cholmod_analyze(&S, &c_);
+    } else {
       if (static_cast<int>(block_order->order.size()) != A.num_blocks())
         throw std::invalid_argument("SparseCholesky::analyze: block order has the wrong size");
-      block_order_ = block_order->order;
+      std::vector<int> perm;
+      perm.reserve(n_);
+      for (int b : block_order->order)
+        for (int r = 0; r < A.block_dim(b); ++r) perm.push_back(A.block_start(b) + r);
+      c_.method[0].ordering = CHOLMOD_GIVEN;
+      c_.postorder = 1;
       stats_.ordering = block_order->method;
-    } else {
-      std::vector<std::pair<int, int>> edges;
-      for (int j = 0; j < A.num_blocks(); ++j)
-        for (const int* i = A.column_blocks_begin(j); i != A.column_blocks_end(j); ++i) edges.emplace_back(*i, j);
-      EliminationOrder order = compute_elimination_order(A.num_blocks(), edges, ordering_);
-      block_order_ = std::move(order.order);
-      stats_.ordering = order.method;
+      L_ = cholmod_analyze_p(&S, perm.data(), nullptr, 0, &c_);
     }
-    std::vector<int> perm;
-    perm.reserve(n_);
-    for (int b : block_order_)
-      for (int r = 0; r < A.block_dim(b); ++r) perm.push_back(A.block_start(b) + r);
-    cholmod_sparse S = wrap_upper(n_, A.col_ptr(), A.row_index(), nullptr);
-    c_.nmethods = 1;
-    c_.method[0].ordering = CHOLMOD_GIVEN;
-    c_.postorder = 1;
-    L_ = cholmod_analyze_p(&S, perm.data(), nullptr, 0, &c_);
     if (!L_ || c_.status < CHOLMOD_OK)
       throw NumericalError("CHOLMOD symbolic analysis failed (status " + std::to_string(c_.status) + ")");
     stats_.factor_nnz = c_.lnz;
@@ -116,7 +115,7 @@ class CholmodCholesky final : public SparseCholesky {
 
   bool factorize(const BlockSparseMatrix& A) override {
     if (!L_ || A.rows() != n_) throw std::logic_error("SparseCholesky::factorize before analyze");
-    cholmod_sparse S = wrap_upper(n_, A.col_ptr(), A.row_index(), const_cast<double*>(A.values().data()));
+    cholmod_sparse S = wrap_lower(n_, A.col_ptr(), A.row_index(), const_cast<double*>(A.values().data()));
     const int ok = cholmod_factorize(&S, L_, &c_);
     return ok && c_.status == CHOLMOD_OK && L_->minor == L_->n;
   }
@@ -156,7 +155,6 @@ class CholmodCholesky final : public SparseCholesky {
   cholmod_factor* L_ = nullptr;
   cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;
   int n_ = 0;
-  std::vector<int> block_order_;
   CholeskyStats stats_;
 };
 

@@ -13,19 +13,22 @@ namespace {
 
 class EigenCholesky final : public SparseCholesky {
  public:
-  explicit EigenCholesky(OrderingMethod ordering) : natural_(ordering == OrderingMethod::kNatural) {}
+  explicit EigenCholesky(OrderingMethod ordering) : natural_requested_(ordering == OrderingMethod::kNatural) {}
   std::string name() const override { return "Eigen SimplicialLDLT (FALLBACK: slow, CHOLMOD not used)"; }
   bool is_fallback() const override { return true; }
 
-  void analyze(const BlockSparseMatrix& A, const EliminationOrder*) override {  // Eigen orders by itself
+  // Without a block order A is already in elimination order (natural); with one, Eigen
+  // computes its own AMD ordering instead of the given one.
+  void analyze(const BlockSparseMatrix& A, const EliminationOrder* block_order) override {
     const auto t0 = std::chrono::steady_clock::now();
+    natural_ = natural_requested_ || block_order == nullptr;
     const auto M = map(A);
     if (natural_) {
       natural_ldlt_.analyzePattern(M);
     } else {
       ldlt_.analyzePattern(M);
     }
-    stats_.ordering = natural_ ? "natural" : "AMD (Eigen)";
+    stats_.ordering = natural_ ? "as stored" : "AMD (Eigen)";
     stats_.analyze_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     n_ = A.rows();
   }
@@ -70,10 +73,11 @@ class EigenCholesky final : public SparseCholesky {
     return Sparse(A.rows(), A.rows(), static_cast<int>(A.nnz()), A.col_ptr().data(), A.row_index().data(),
                   A.values().data());
   }
-  bool natural_;
+  bool natural_requested_;
+  bool natural_ = true;
   int n_ = 0;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::AMDOrdering<int>> ldlt_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>> natural_ldlt_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> natural_ldlt_;
   CholeskyStats stats_;
 };
 

@@ -89,6 +89,55 @@ EliminationOrder eigen_amd(int n, const std::vector<int>& col_ptr, const std::ve
   return out;
 }
 
+// Postorders the elimination tree of the graph under `order`: every subtree becomes a
+// contiguous range, so supernodes stay together and a matrix stored in this order can be
+// factorized as is (no symbolic or numeric permutation). Fill is unchanged.
+std::vector<int> postorder(int n, const std::vector<std::pair<int, int>>& edges, const std::vector<int>& order) {
+  std::vector<int> label(n);  // node → position in `order`
+  for (int k = 0; k < n; ++k) label[order[k]] = k;
+  std::vector<std::vector<int>> lower(n);  // by position: neighbours at earlier positions
+  for (auto [a, b] : edges) {
+    const int la = label[a], lb = label[b];
+    if (la < lb) lower[lb].push_back(la);
+    if (lb < la) lower[la].push_back(lb);
+  }
+  // Elimination tree (Liu's algorithm with path compression).
+  std::vector<int> parent(n, -1), ancestor(n, -1);
+  for (int k = 0; k < n; ++k) {
+    for (int i : lower[k]) {
+      int r = i;
+      while (ancestor[r] != -1 && ancestor[r] != k) {
+        const int next = ancestor[r];
+        ancestor[r] = k;
+        r = next;
+      }
+      if (ancestor[r] == -1) ancestor[r] = k, parent[r] = k;
+    }
+  }
+  // Depth-first postorder, children (and roots) in increasing position.
+  std::vector<int> head(n, -1), next(n, -1);
+  for (int k = n - 1; k >= 0; --k)
+    if (parent[k] >= 0) next[k] = head[parent[k]], head[parent[k]] = k;
+  std::vector<int> result, stack;
+  result.reserve(n);
+  for (int root = 0; root < n; ++root) {
+    if (parent[root] >= 0) continue;
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const int top = stack.back();
+      const int child = head[top];
+      if (child < 0) {
+        stack.pop_back();
+        result.push_back(order[top]);
+      } else {
+        head[top] = next[child];
+        stack.push_back(child);
+      }
+    }
+  }
+  return result;
+}
+
 }  // namespace
 
 EliminationOrder compute_elimination_order(int n, const std::vector<std::pair<int, int>>& edges,
@@ -102,25 +151,33 @@ EliminationOrder compute_elimination_order(int n, const std::vector<std::pair<in
   }
   std::vector<int> col_ptr, rows;
   upper_pattern(n, edges, &col_ptr, &rows);
+  EliminationOrder best;
 #ifdef SLAMKIT_HAVE_CHOLMOD
   switch (method) {
-    case OrderingMethod::kAmd: return cholmod_order(n, col_ptr, rows, CHOLMOD_AMD);
-    case OrderingMethod::kMetis: return cholmod_order(n, col_ptr, rows, CHOLMOD_METIS);
-    case OrderingMethod::kNesdis: return cholmod_order(n, col_ptr, rows, CHOLMOD_NESDIS);
-    default: break;
+    case OrderingMethod::kAmd: best = cholmod_order(n, col_ptr, rows, CHOLMOD_AMD); break;
+    case OrderingMethod::kMetis: best = cholmod_order(n, col_ptr, rows, CHOLMOD_METIS); break;
+    case OrderingMethod::kNesdis: best = cholmod_order(n, col_ptr, rows, CHOLMOD_NESDIS); break;
+    default:
+      // Auto: nested dissection pays for its slower ordering only on large factorizations.
+      best = cholmod_order(n, col_ptr, rows, CHOLMOD_AMD);
+      if (best.flops >= 2e6) {
+        for (int m : {CHOLMOD_METIS, CHOLMOD_NESDIS}) {
+          EliminationOrder candidate = cholmod_order(n, col_ptr, rows, m);
+          if (candidate.flops < best.flops) best = std::move(candidate);
+        }
+      }
   }
-  // Auto: nested dissection pays for its slower ordering only on large factorizations.
-  EliminationOrder best = cholmod_order(n, col_ptr, rows, CHOLMOD_AMD);
-  if (best.flops >= 2e6) {
-    for (int m : {CHOLMOD_METIS, CHOLMOD_NESDIS}) {
-      EliminationOrder candidate = cholmod_order(n, col_ptr, rows, m);
-      if (candidate.flops < best.flops) best = std::move(candidate);
-    }
-  }
-  return best;
 #else
-  return eigen_amd(n, col_ptr, rows);
+  best = eigen_amd(n, col_ptr, rows);
 #endif
+  best.order = postorder(n, edges, best.order);
+  return best;
+}
+
+EliminationOrder postordered(int n, const std::vector<std::pair<int, int>>& edges, EliminationOrder order) {
+  if (static_cast<int>(order.order.size()) != n) throw InputError("", 0, "order", "elimination order has the wrong size");
+  order.order = postorder(n, edges, order.order);
+  return order;
 }
 
 }  // namespace slamkit

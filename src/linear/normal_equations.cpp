@@ -23,6 +23,8 @@ void add_at_b(const double* a, const double* b, double* dest, int rows, int di, 
   if (rows == 2 && di == 3 && dj == 2) return add_at_b_fixed<2, 3, 2>(a, b, dest, ld);
   if (rows == 3 && di == 6 && dj == 3) return add_at_b_fixed<3, 6, 3>(a, b, dest, ld);
   if (rows == 2 && di == 2 && dj == 2) return add_at_b_fixed<2, 2, 2>(a, b, dest, ld);
+  if (rows == 6 && di == 6 && dj == 1) return add_at_b_fixed<6, 6, 1>(a, b, dest, ld);  // gradients
+  if (rows == 3 && di == 3 && dj == 1) return add_at_b_fixed<3, 3, 1>(a, b, dest, ld);
   const Eigen::Map<const Eigen::MatrixXd> A(a, rows, di), B(b, rows, dj);
   Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(dest, di, dj, Eigen::OuterStride<>(ld));
   D.noalias() += A.transpose() * B;
@@ -30,7 +32,9 @@ void add_at_b(const double* a, const double* b, double* dest, int rows, int di, 
 
 }  // namespace
 
-NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values) : graph_(graph) {
+NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values, OrderingMethod ordering,
+                                 const EliminationOrder* variable_order)
+    : graph_(graph) {
   graph.check_against(values);
   const std::size_t nf = graph.size();
   std::vector<char> touched(values.size(), 0);
@@ -47,16 +51,61 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values)
     }
     max_arity_ = std::max(max_arity_, factor.keys().size());
   }
-  // Free variables in Values order; a block per variable.
-  block_of_var_.assign(values.size(), -1);
-  std::vector<int> dims;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    if (values.fixed(i) || !touched[i]) continue;
-    block_of_var_[i] = static_cast<int>(free_vars_.size());
-    free_vars_.push_back(i);
-    dims.push_back(values.manifold(i).tangent_dim());
+  for (const FactorSlot& s : slots_) {
+    const std::size_t k = s.factor->keys().size();
+    for (std::size_t a = 0; a < k; ++a)
+      for (std::size_t b = a + 1; b < k; ++b)
+        if (var_index_[s.first_var + a] == var_index_[s.first_var + b])
+          throw InputError("", 0, "key", "a factor uses variable " +
+                                             key_to_string(values.key(var_index_[s.first_var + a])) + " twice");
   }
-  if (free_vars_.empty()) throw InputError("", 0, "", "the problem has no free variable to optimize");
+
+  // Free variables (fixed ones and those no factor touches are left out), their graph.
+  std::vector<int> free_index(values.size(), -1);
+  std::vector<std::size_t> free_vars;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!values.fixed(i) && touched[i]) free_index[i] = static_cast<int>(free_vars.size()), free_vars.push_back(i);
+  if (free_vars.empty()) throw InputError("", 0, "", "the problem has no free variable to optimize");
+  const int n = static_cast<int>(free_vars.size());
+  std::vector<std::pair<int, int>> edges;
+  for (const FactorSlot& s : slots_) {
+    const std::size_t k = s.factor->keys().size();
+    for (std::size_t a = 0; a < k; ++a)
+      for (std::size_t b = a + 1; b < k; ++b) {
+        const int fa = free_index[var_index_[s.first_var + a]], fb = free_index[var_index_[s.first_var + b]];
+        if (fa >= 0 && fb >= 0) edges.emplace_back(fa, fb);
+      }
+  }
+
+  // Elimination order → block numbering.
+  EliminationOrder order;
+  if (variable_order && !variable_order->order.empty()) {
+    order.method = variable_order->method;
+    std::vector<char> seen(n, 0);
+    for (int v : variable_order->order) {
+      if (v < 0 || static_cast<std::size_t>(v) >= values.size())
+        throw InputError("", 0, "variable_order", "variable order names index " + std::to_string(v));
+      const int f = free_index[static_cast<std::size_t>(v)];
+      if (f < 0) continue;
+      if (seen[f]++) throw InputError("", 0, "variable_order", "variable order repeats index " + std::to_string(v));
+      order.order.push_back(f);
+    }
+    if (static_cast<int>(order.order.size()) != n)
+      throw InputError("", 0, "variable_order", "variable order does not cover every free variable");
+    order = postordered(n, edges, std::move(order));
+  } else {
+    order = compute_elimination_order(n, edges, ordering);
+  }
+  ordering_ = order.method;
+  block_of_var_.assign(values.size(), -1);
+  std::vector<int> dims(n);
+  free_vars_.resize(n);
+  for (int b = 0; b < n; ++b) {
+    const std::size_t i = free_vars[order.order[b]];
+    free_vars_[b] = i;
+    block_of_var_[i] = b;
+    dims[b] = values.manifold(i).tangent_dim();
+  }
 
   // Jacobian slots for free variables; the block pattern from every pair of them.
   var_jacobian_.assign(var_index_.size(), -1);
@@ -71,7 +120,7 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values)
       jac_total += static_cast<std::size_t>(s.residual_dim) * dims[ba];
       for (std::size_t b = 0; b < k; ++b) {
         const int bb = block_of_var_[var_index_[s.first_var + b]];
-        if (bb >= 0 && ba < bb) pattern.emplace_back(ba, bb);
+        if (bb >= 0 && ba > bb) pattern.emplace_back(ba, bb);
       }
     }
   }
@@ -82,7 +131,7 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values)
   g_ = Eigen::VectorXd::Zero(H_.rows());
   diag_ = Eigen::VectorXd::Zero(H_.rows());
 
-  // Contributions grouped by block column, in factor order.
+  // Contributions grouped by block column (the smaller block index), in factor order.
   contributions_.assign(H_.num_blocks(), {});
   for (const FactorSlot& s : slots_) {
     const std::size_t k = s.factor->keys().size();
@@ -91,7 +140,7 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values)
       if (ba < 0) continue;
       for (std::size_t b = 0; b < k; ++b) {
         const int bb = block_of_var_[var_index_[s.first_var + b]];
-        if (bb < 0 || ba > bb || (ba == bb && a != b)) continue;
+        if (bb < 0 || ba < bb || (ba == bb && a != b)) continue;
         Contribution c;
         c.ja = static_cast<std::size_t>(var_jacobian_[s.first_var + a]);
         c.jb = static_cast<std::size_t>(var_jacobian_[s.first_var + b]);
@@ -105,15 +154,6 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values)
         contributions_[bb].push_back(c);
       }
     }
-  }
-  // A variable used twice by one factor would need J_aᵀJ_b + J_bᵀJ_a on the diagonal block.
-  for (const FactorSlot& s : slots_) {
-    const std::size_t k = s.factor->keys().size();
-    for (std::size_t a = 0; a < k; ++a)
-      for (std::size_t b = a + 1; b < k; ++b)
-        if (var_index_[s.first_var + a] == var_index_[s.first_var + b])
-          throw InputError("", 0, "key", "a factor uses variable " +
-                                             key_to_string(values.key(var_index_[s.first_var + a])) + " twice");
   }
 }
 
@@ -135,16 +175,13 @@ void NormalEquations::linearize_factors(const Values& x, std::size_t begin, std:
 void NormalEquations::assemble_column(int j) {
   // Zero the block column and the gradient block, then add contributions in factor order.
   const int dj = H_.block_dim(j), ld = H_.leading_dim(j);
-  double* col = H_.values().data() + H_.block_offset(*H_.column_blocks_begin(j), j);
+  double* col = H_.values().data() + H_.block_offset(j, j);  // the diagonal block starts the column
   std::fill(col, col + static_cast<std::ptrdiff_t>(ld) * dj, 0.0);
   Eigen::Map<Eigen::VectorXd> gj(g_.data() + H_.block_start(j), dj);
   gj.setZero();
   for (const Contribution& c : contributions_[j]) {
     add_at_b(jacobians_.data() + c.ja, jacobians_.data() + c.jb, H_.values().data() + c.dest, c.rows, c.di, c.dj, c.ld);
-    if (c.diagonal) {
-      const Eigen::Map<const Eigen::MatrixXd> J(jacobians_.data() + c.jb, c.rows, c.dj);
-      gj.noalias() += J.transpose() * Eigen::Map<const Eigen::VectorXd>(residuals_.data() + c.residual, c.rows);
-    }
+    if (c.diagonal) add_at_b(jacobians_.data() + c.jb, residuals_.data() + c.residual, gj.data(), c.rows, c.dj, 1, dj);
   }
   for (int c = 0; c < dj; ++c) {
     const int r = H_.block_start(j) + c;

@@ -51,7 +51,8 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   s.threads = pool.threads();
   s.thread_backend = ThreadPool::backend();
 
-  NormalEquations ne(graph, values);
+  NormalEquations ne(graph, values, options_.ordering,
+                     options_.variable_order.order.empty() ? nullptr : &options_.variable_order);
   s.num_variables = static_cast<int>(values.size());
   s.num_fixed = static_cast<int>(values.num_fixed());
   s.num_factors = static_cast<int>(graph.size());
@@ -63,22 +64,8 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   s.linear_solver = chol->name();
   s.linear_solver_is_fallback = chol->is_fallback();
   s.time_setup_s = now_s() - t_start;
-  if (!options_.variable_order.order.empty()) {
-    EliminationOrder blocks;
-    blocks.method = options_.variable_order.method;
-    for (int v : options_.variable_order.order) {
-      if (v < 0 || static_cast<std::size_t>(v) >= values.size())
-        throw InputError("", 0, "variable_order", "variable order names index " + std::to_string(v));
-      const int b = ne.block_of_variable(static_cast<std::size_t>(v));
-      if (b >= 0) blocks.order.push_back(b);
-    }
-    if (static_cast<int>(blocks.order.size()) != ne.num_free_variables())
-      throw InputError("", 0, "variable_order", "variable order does not cover every free variable exactly once");
-    chol->analyze(ne.hessian(), &blocks);
-  } else {
-    chol->analyze(ne.hessian());
-  }
-  s.ordering = chol->stats().ordering;
+  chol->analyze(ne.hessian());  // H is stored in elimination order
+  s.ordering = ne.ordering();
   s.time_analyze_s = chol->stats().analyze_time_s;
   s.factor_nnz = chol->stats().factor_nnz;
   s.factor_flops = chol->stats().factor_flops;

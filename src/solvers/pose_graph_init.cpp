@@ -102,64 +102,76 @@ void initialize_points(PoseGraph& g) {
   complete_estimates_by_odometry(g);
 }
 
-// Solves the block system A X = B where only non-gauge poses are unknowns. `blocks` are the
-// (a, b) pose pairs, values are added through add(); fixed poses are eliminated by the caller.
+// The normal equations of a linear least-squares problem over the non-gauge poses, with
+// B×B blocks and up to three right-hand sides. Gauge (known) poses are eliminated into the
+// right-hand side. The pattern, and its symbolic factorization, are fixed at construction.
+template <int B>
 class PoseSystem {
  public:
-  PoseSystem(const PoseIndex& ix, int block, const std::vector<std::pair<int, int>>& edges, int rhs,
-             const InitOptions& o)
-      : block_(block) {
-    unknown_.assign(ix.vertex.size(), -1);
+  using Block = Eigen::Matrix<double, B, B>;
+  using Rhs = Eigen::Matrix<double, B, Eigen::Dynamic, (B == 1 ? Eigen::RowMajor : Eigen::ColMajor), B, 3>;
+
+  PoseSystem(const PoseIndex& ix, const std::vector<std::pair<int, int>>& edges, int rhs, const InitOptions& o) {
+    // Unknowns: the non-gauge poses, numbered in elimination order (so that the Cholesky
+    // factorizes the system as stored): the shared vertex order if given, else a new one.
+    std::vector<int> free_index(ix.vertex.size(), -1);
     int n = 0;
     for (std::size_t k = 0; k < ix.vertex.size(); ++k)
-      if (!ix.gauge[k]) unknown_[k] = n++;
-    std::vector<std::pair<int, int>> pattern;
-    for (const auto& [a, b] : edges) {
-      const int ua = unknown_[a], ub = unknown_[b];
-      if (ua >= 0 && ub >= 0 && ua != ub) pattern.emplace_back(ua, ub);
-    }
-    A_ = BlockSparseMatrix(std::vector<int>(n, block), pattern);
-    B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
-    chol_ = make_sparse_cholesky(o.linear_solver, o.ordering, o.threads);
+      if (!ix.gauge[k]) free_index[k] = n++;
+    std::vector<std::pair<int, int>> free_edges;
+    for (const auto& [a, b] : edges)
+      if (free_index[a] >= 0 && free_index[b] >= 0 && a != b) free_edges.emplace_back(free_index[a], free_index[b]);
+    EliminationOrder order;
     if (!o.vertex_order.order.empty()) {
-      EliminationOrder blocks;
-      blocks.method = o.vertex_order.method;
+      order.method = o.vertex_order.method;
       for (int v : o.vertex_order.order) {
         const int pose = ix.pose_of.at(static_cast<std::size_t>(v));
-        if (pose >= 0 && unknown_[pose] >= 0) blocks.order.push_back(unknown_[pose]);
+        if (pose >= 0 && free_index[pose] >= 0) order.order.push_back(free_index[pose]);
       }
-      chol_->analyze(A_, &blocks);
+      order = postordered(n, free_edges, std::move(order));
     } else {
-      chol_->analyze(A_);
+      order = compute_elimination_order(n, free_edges, o.ordering);
     }
+    std::vector<int> position(n);
+    for (int p = 0; p < n; ++p) position[order.order[p]] = p;
+    unknown_.assign(ix.vertex.size(), -1);
+    for (std::size_t k = 0; k < ix.vertex.size(); ++k)
+      if (free_index[k] >= 0) unknown_[k] = position[free_index[k]];
+    std::vector<std::pair<int, int>> pattern;
+    for (const auto& [a, b] : free_edges) pattern.emplace_back(position[a], position[b]);
+    A_ = BlockSparseMatrix(std::vector<int>(n, B), pattern);
+    B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
+    chol_ = make_sparse_cholesky(o.linear_solver, o.ordering, o.threads);
+    chol_->analyze(A_);
   }
   int unknown(int pose) const { return unknown_[pose]; }
-  /// Clears the system for a new set of values with the same pattern (and rhs columns).
+  /// Clears the values for a new system with the same pattern and `rhs` right-hand sides.
   void reset(int rhs) {
     A_.set_zero();
     B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
   }
-  // Residual r = M_a x_a + M_b x_b − c (per RHS column), weight W: adds to the normal equations,
-  // moving known (gauge) terms to the right-hand side.
-  void add(int a, const Eigen::MatrixXd& Ma, int b, const Eigen::MatrixXd& Mb, const Eigen::MatrixXd& c,
-           const Eigen::MatrixXd& W, const Eigen::MatrixXd& xa_known, const Eigen::MatrixXd& xb_known) {
+  /// Adds the term ‖Ma x_a + Mb x_b − c‖²_W (one column of c per right-hand side); x_known
+  /// are the values of gauge poses, used when a or b is not an unknown.
+  void add(int a, const Block& Ma, int b, const Block& Mb, const Rhs& c, const Block& W, const Rhs& xa_known,
+           const Rhs& xb_known) {
     const int ua = unknown_[a], ub = unknown_[b];
-    Eigen::MatrixXd rhs = c;  // c − (known terms)
+    Rhs rhs = c;
     if (ua < 0) rhs -= Ma * xa_known;
     if (ub < 0) rhs -= Mb * xb_known;
+    const Block MaW = Ma.transpose() * W, MbW = Mb.transpose() * W;
     if (ua >= 0) {
-      A_.block(ua, ua) += Ma.transpose() * W * Ma;
-      B_.middleRows(ua * block_, block_) += Ma.transpose() * W * rhs;
+      block(ua, ua) += MaW * Ma;
+      B_.middleRows<B>(ua * B) += MaW * rhs;
     }
     if (ub >= 0) {
-      A_.block(ub, ub) += Mb.transpose() * W * Mb;
-      B_.middleRows(ub * block_, block_) += Mb.transpose() * W * rhs;
+      block(ub, ub) += MbW * Mb;
+      B_.middleRows<B>(ub * B) += MbW * rhs;
     }
-    if (ua >= 0 && ub >= 0 && ua != ub) {
-      if (ua < ub) {
-        A_.block(ua, ub) += Ma.transpose() * W * Mb;
+    if (ua >= 0 && ub >= 0 && ua != ub) {  // lower triangle: block (larger, smaller)
+      if (ua > ub) {
+        block(ua, ub) += MaW * Mb;
       } else {
-        A_.block(ub, ua) += Mb.transpose() * W * Ma;
+        block(ub, ua) += MbW * Ma;
       }
     }
   }
@@ -171,7 +183,10 @@ class PoseSystem {
   }
 
  private:
-  int block_;
+  Eigen::Map<Block, 0, Eigen::OuterStride<>> block(int i, int j) {
+    return Eigen::Map<Block, 0, Eigen::OuterStride<>>(A_.values().data() + A_.block_offset(i, j),
+                                                      Eigen::OuterStride<>(A_.leading_dim(j)));
+  }
   std::vector<int> unknown_;
   BlockSparseMatrix A_;
   Eigen::MatrixXd B_;
@@ -203,43 +218,42 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
     tree_theta[k] = tree_theta[p] + (forward ? edge.pose2.theta() : -edge.pose2.theta());
   }
   const auto pairs = pose_pairs(ix);
-  PoseSystem theta_sys(ix, 1, pairs, 1, o);
-  const Eigen::MatrixXd one = Eigen::MatrixXd::Ones(1, 1), minus_one = -one;
+  using Scalar1 = Eigen::Matrix<double, 1, 1>;
+  PoseSystem<1> theta_sys(ix, pairs, 1, o);
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;
     const GraphEdge& edge = g.edges[e];
     const double delta = edge.pose2.theta();
     const double wraps = std::round((tree_theta[b] - tree_theta[a] - delta) / (2.0 * kPi));
-    const Eigen::Matrix3d cov = edge.information.inverse();
-    const Eigen::MatrixXd W = Eigen::MatrixXd::Constant(1, 1, 1.0 / cov(2, 2));
-    theta_sys.add(a, minus_one, b, one, Eigen::MatrixXd::Constant(1, 1, delta + 2.0 * kPi * wraps), W,
-                  Eigen::MatrixXd::Constant(1, 1, tree_theta[a]), Eigen::MatrixXd::Constant(1, 1, tree_theta[b]));
+    // Marginal information of θ: 1 / (Ω⁻¹)_θθ.
+    const Eigen::Matrix3d omega = edge.information.topLeftCorner<3, 3>();
+    const double w = 1.0 / omega.inverse()(2, 2);
+    theta_sys.add(a, Scalar1(-1.0), b, Scalar1(1.0), Scalar1(delta + 2.0 * kPi * wraps), Scalar1(w),
+                  Scalar1(tree_theta[a]), Scalar1(tree_theta[b]));
   }
   const Eigen::MatrixXd theta = theta_sys.solve();
   std::vector<double> th(n);
   for (std::size_t k = 0; k < n; ++k) th[k] = ix.gauge[k] ? tree_theta[k] : theta(theta_sys.unknown(k), 0);
 
-  PoseSystem pos_sys(ix, 2, pairs, 1, o);
-  const Eigen::MatrixXd I2 = Eigen::Matrix2d::Identity(), mI2 = -I2;
+  PoseSystem<2> pos_sys(ix, pairs, 1, o);
+  const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;
     const GraphEdge& edge = g.edges[e];
-    // g2o error translation R_zᵀ(R_aᵀ(p_b − p_a) − t_z): weight (R_a R_z) Ω_xy (R_a R_z)ᵀ.
-    const Eigen::Matrix2d Ra = SO2(th[a]).matrix(), Rz = edge.pose2.rotation().matrix();
-    const Eigen::Matrix2d M = Ra * Rz;
-    const Eigen::Matrix3d& Om = edge.information;
-    // Information of the translation error given θ (the θ row is fixed): the xy block.
-    const Eigen::MatrixXd W = M * Om.topLeftCorner<2, 2>() * M.transpose();
-    pos_sys.add(a, mI2, b, I2, Ra * edge.pose2.translation(), W,
-                g.vertices()[ix.vertex[a]].pose2.translation(), g.vertices()[ix.vertex[b]].pose2.translation());
+    // g2o error translation R_zᵀ(R_aᵀ(p_b − p_a) − t_z) given θ: weight (R_a R_z) Ω_xy (R_a R_z)ᵀ.
+    const Eigen::Matrix2d Ra = SO2(th[a]).matrix();
+    const Eigen::Matrix2d M = Ra * edge.pose2.rotation().matrix();
+    const Eigen::Matrix2d W = M * edge.information.topLeftCorner<2, 2>() * M.transpose();
+    pos_sys.add(a, -I2, b, I2, Ra * edge.pose2.translation(), W, g.vertices()[ix.vertex[a]].pose2.translation(),
+                g.vertices()[ix.vertex[b]].pose2.translation());
   }
   const Eigen::MatrixXd pos = pos_sys.solve();
   for (std::size_t k = 0; k < n; ++k) {
     if (ix.gauge[k]) continue;
     GraphVertex& v = g.vertex_at(ix.vertex[k]);
-    v.pose2 = SE2(SO2(th[k]), pos.middleRows(2 * pos_sys.unknown(static_cast<int>(k)), 2));
+    v.pose2 = SE2(SO2(th[k]), pos.middleRows<2>(2 * pos_sys.unknown(static_cast<int>(k))));
     v.has_estimate = true;
   }
 }
@@ -257,41 +271,40 @@ void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
   const auto pairs = pose_pairs(ix);
   // Unknowns per pose: x = (row k of R)ᵀ for k = 0, 1, 2 as three right-hand sides.
   // Edge R_b = R_a Z ⇒ row: x_b − Zᵀ x_a = 0.
-  PoseSystem rot_sys(ix, 3, pairs, 3, o);
-  const Eigen::MatrixXd I3 = Eigen::Matrix3d::Identity();
+  PoseSystem<3> sys(ix, pairs, 3, o);
+  const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;
     const GraphEdge& edge = g.edges[e];
     const Eigen::Matrix3d Zt = edge.pose3.rotation().matrix().transpose();
     const double w = edge.information.bottomRightCorner<3, 3>().trace() / 3.0;
-    const Eigen::MatrixXd W = w * I3;
-    const Eigen::MatrixXd Ra = g.vertices()[ix.vertex[a]].pose3.rotation().matrix().transpose();
-    const Eigen::MatrixXd Rb = g.vertices()[ix.vertex[b]].pose3.rotation().matrix().transpose();
-    rot_sys.add(a, -Zt, b, I3, Eigen::MatrixXd::Zero(3, 3), W, Ra, Rb);  // columns of Rᵀ = rows of R
+    // Columns of Rᵀ are the rows of R: the three right-hand sides.
+    sys.add(a, -Zt, b, I3, Eigen::Matrix3d::Zero(), w * I3,
+            g.vertices()[ix.vertex[a]].pose3.rotation().matrix().transpose(),
+            g.vertices()[ix.vertex[b]].pose3.rotation().matrix().transpose());
   }
-  const Eigen::MatrixXd X = rot_sys.solve();
+  const Eigen::MatrixXd X = sys.solve();
   std::vector<Eigen::Matrix3d> R(n);
   for (std::size_t k = 0; k < n; ++k) {
     R[k] = ix.gauge[k] ? g.vertices()[ix.vertex[k]].pose3.rotation().matrix()
-                       : project_to_so3(X.middleRows(3 * rot_sys.unknown(static_cast<int>(k)), 3).transpose());
+                       : project_to_so3(X.middleRows<3>(3 * sys.unknown(static_cast<int>(k))).transpose());
   }
-  PoseSystem& pos_sys = rot_sys;  // same pattern: reuse the symbolic factorization
-  pos_sys.reset(1);
+  sys.reset(1);  // positions: same pattern, same symbolic factorization
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;
     const GraphEdge& edge = g.edges[e];
     const Eigen::Matrix3d M = R[a] * edge.pose3.rotation().matrix();
-    const Eigen::MatrixXd W = M * edge.information.topLeftCorner<3, 3>() * M.transpose();
-    pos_sys.add(a, -I3, b, I3, R[a] * edge.pose3.translation(), W, g.vertices()[ix.vertex[a]].pose3.translation(),
-                g.vertices()[ix.vertex[b]].pose3.translation());
+    const Eigen::Matrix3d W = M * edge.information.topLeftCorner<3, 3>() * M.transpose();
+    sys.add(a, -I3, b, I3, R[a] * edge.pose3.translation(), W, g.vertices()[ix.vertex[a]].pose3.translation(),
+            g.vertices()[ix.vertex[b]].pose3.translation());
   }
-  const Eigen::MatrixXd pos = pos_sys.solve();
+  const Eigen::MatrixXd pos = sys.solve();
   for (std::size_t k = 0; k < n; ++k) {
     if (ix.gauge[k]) continue;
     GraphVertex& v = g.vertex_at(ix.vertex[k]);
-    v.pose3 = SE3(SO3::from_matrix(R[k]), pos.middleRows(3 * pos_sys.unknown(static_cast<int>(k)), 3));
+    v.pose3 = SE3(SO3::from_matrix(R[k]), pos.middleRows<3>(3 * sys.unknown(static_cast<int>(k))));
     v.has_estimate = true;
   }
 }

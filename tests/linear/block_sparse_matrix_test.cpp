@@ -28,9 +28,9 @@ TEST(BlockSparseMatrix, PatternLayoutAndCsc) {
   const BlockSparseMatrix A = random_matrix(rng);
   EXPECT_EQ(A.rows(), 21);
   EXPECT_EQ(A.num_stored_blocks(), 6u + 5u);  // diagonal + distinct off-diagonal
-  EXPECT_LT(A.block_offset(5, 0), 0);         // lower triangle is not stored
-  EXPECT_GE(A.block_offset(0, 5), 0);
-  EXPECT_LT(A.block_offset(1, 2), 0);
+  EXPECT_LT(A.block_offset(0, 5), 0);         // the upper triangle is not stored
+  EXPECT_GE(A.block_offset(5, 0), 0);
+  EXPECT_LT(A.block_offset(2, 1), 0);
   // CSC rows are sorted and the diagonal positions point at diagonal entries.
   const Eigen::MatrixXd D = A.to_dense();
   for (int c = 0; c < A.rows(); ++c) {

@@ -1,12 +1,14 @@
-// BlockSparseMatrix: a symmetric block-sparse matrix stored as its upper block triangle in
+// BlockSparseMatrix: a symmetric block-sparse matrix stored as its lower block triangle in
 // compressed sparse column (CSC) form, ready to hand to CHOLMOD without a copy.
 //
-// Layout: block column j holds the blocks (i, j), i ≤ j, of its pattern in increasing i;
+// Layout: block column j holds the blocks (i, j), i ≥ j, of its pattern in increasing i;
 // every scalar column of block column j lists the same rows (all rows of those blocks, so
 // diagonal blocks are stored in full), and block (i, j) is a column-major d_i × d_j matrix at
-// values() + block_offset(i, j) with leading dimension leading_dim(j). Entries below the
-// diagonal inside diagonal blocks are ignored by the solvers (upper-triangular CSC, stype 1).
-// The pattern is fixed at construction; values change every iteration.
+// values() + block_offset(i, j) with leading dimension leading_dim(j). Diagonal blocks must be
+// kept symmetric (multiply() and to_dense() read them whole; the Cholesky backends read their
+// lower triangle). The pattern is fixed at construction; values change every iteration.
+// Blocks are numbered in elimination order by their owner (NormalEquations), so that CHOLMOD
+// factorizes the matrix as stored, without permuting it.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,22 +35,22 @@ class BlockSparseMatrix {
   std::size_t num_stored_blocks() const { return block_rows_.size(); }
   std::size_t nnz() const { return values_.size(); }
 
-  /// Offset of block (i, j), i ≤ j, into values(); −1 if the block is not in the pattern.
+  /// Offset of block (i, j), i ≥ j, into values(); −1 if the block is not in the pattern.
   std::ptrdiff_t block_offset(int i, int j) const;
   int leading_dim(int j) const { return col_heights_[j]; }
-  BlockMap block(int i, int j);  ///< i ≤ j, must exist
+  BlockMap block(int i, int j);  ///< i ≥ j, must exist
 
-  /// The block pattern itself (upper triangle incl. diagonal) in CSC form over blocks.
+  /// The block pattern itself (lower triangle incl. diagonal) in CSC form over blocks.
   const std::vector<int>& block_column_pointers() const { return block_col_ptr_; }
   const std::vector<int>& block_row_indices() const { return block_rows_; }
-  /// The block rows i ≤ j of block column j, sorted.
+  /// The block rows i ≥ j of block column j, sorted (the first one is j itself).
   const int* column_blocks_begin(int j) const { return block_rows_.data() + block_col_ptr_[j]; }
   const int* column_blocks_end(int j) const { return block_rows_.data() + block_col_ptr_[j + 1]; }
 
   void set_zero();
   std::vector<double>& values() { return values_; }
   const std::vector<double>& values() const { return values_; }
-  // CSC arrays (upper triangle plus full diagonal blocks), 32-bit as CHOLMOD's int interface.
+  // CSC arrays (lower triangle plus full diagonal blocks), 32-bit as CHOLMOD's int interface.
   const std::vector<int>& col_ptr() const { return col_ptr_; }
   const std::vector<int>& row_index() const { return row_index_; }
   /// Positions of the scalar diagonal entries in values().

@@ -1,10 +1,12 @@
 // NormalEquations: the Gauss-Newton system of a FactorGraph around Values x,
 //     H δ = −g,   H = Σ_f Ĵ_fᵀ Ĵ_f,   g = Σ_f Ĵ_fᵀ r̂_f,
 // with Ĵ, r̂ the whitened, robustified Jacobians and residuals (Factor::linearize), and
-// δ stacked over the free variables in their Values order.
+// δ stacked over the free variables in elimination order: block k of H is the k-th free
+// variable to eliminate (a fill-reducing order, postordered), so the sparse Cholesky
+// factorizes H exactly as stored.
 //
-// The structure (which variables are free, the block pattern of H, where each factor's
-// JᵀJ blocks land in H's storage) is built once. linearize() then runs in two phases:
+// The structure (which variables are free, their order, the block pattern of H, where each
+// factor's JᵀJ blocks land in H's storage) is built once. linearize() then runs in two phases:
 //   1. every factor is linearized into its own slot of a Jacobian buffer (parallel);
 //   2. every block column of H sums its contributions in factor order (parallel).
 // No sum crosses threads, so H, g and the cost are bit-identical for any thread count.
@@ -17,13 +19,19 @@
 #include "slamkit/core/factor_graph.h"
 #include "slamkit/core/parallel.h"
 #include "slamkit/linear/block_sparse_matrix.h"
+#include "slamkit/linear/sparse_cholesky.h"
 
 namespace slamkit {
 
 class NormalEquations {
  public:
   /// Throws InputError if a factor uses a missing or mistyped variable, or no variable is free.
-  NormalEquations(const FactorGraph& graph, const Values& values);
+  /// variable_order (over Values indices; non-free variables are skipped) fixes the
+  /// elimination order; otherwise `ordering` computes one.
+  NormalEquations(const FactorGraph& graph, const Values& values, OrderingMethod ordering = OrderingMethod::kAuto,
+                  const EliminationOrder* variable_order = nullptr);
+  /// The fill-reducing ordering used ("AMD", "METIS", ... or the given order's name).
+  const std::string& ordering() const { return ordering_; }
 
   int dim() const { return H_.rows(); }
   int num_free_variables() const { return H_.num_blocks(); }
@@ -59,7 +67,7 @@ class NormalEquations {
     std::size_t residual_offset;
     std::size_t first_var;  // into var_index_/var_jacobian_
   };
-  struct Contribution {   // H(i, j) += J_aᵀ J_b
+  struct Contribution {   // H(i, j) += J_aᵀ J_b, i ≥ j
     std::size_t ja, jb;   // offsets into jacobians_
     std::ptrdiff_t dest;  // offset into H values
     int rows, di, dj, ld;
@@ -81,6 +89,7 @@ class NormalEquations {
   BlockSparseMatrix H_;
   Eigen::VectorXd g_, diag_;
   std::size_t max_arity_ = 0;
+  std::string ordering_;
 };
 
 }  // namespace slamkit

@@ -50,8 +50,10 @@ class SparseCholesky {
   /// True for the slow fallback backend (callers must say so in their report).
   virtual bool is_fallback() const = 0;
   /// Symbolic analysis of A's pattern; must be called before factorize() and again only if
-  /// the pattern changes. block_order (over A's blocks, first eliminated first) skips the
-  /// ordering step; otherwise the configured OrderingMethod computes one.
+  /// the pattern changes. Without block_order, A's blocks are taken to be in elimination
+  /// order already (built with compute_elimination_order): the fastest path, A is factorized
+  /// as stored. With block_order (first eliminated first), A is permuted at every
+  /// factorization.
   virtual void analyze(const BlockSparseMatrix& A, const EliminationOrder* block_order = nullptr) = 0;
   /// Numeric factorization of A's values. False if A is not (numerically) positive definite.
   virtual bool factorize(const BlockSparseMatrix& A) = 0;
@@ -65,9 +67,13 @@ class SparseCholesky {
 };
 
 /// kAuto: AMD, and for large factorizations (≥ 2e6 unit-block flops, i.e. ≈ 2e8 for 6×6
-/// blocks) also METIS and NESDIS, keeping the one with the fewest flops.
+/// blocks) also METIS and NESDIS, keeping the one with the fewest flops. The result is
+/// postordered along its elimination tree (same fill; subtrees contiguous), so a matrix
+/// stored in this order is factorized as is.
 EliminationOrder compute_elimination_order(int n, const std::vector<std::pair<int, int>>& edges,
                                            OrderingMethod method = OrderingMethod::kAuto);
+/// An order (e.g. a restriction of a larger problem's order) postordered for this graph.
+EliminationOrder postordered(int n, const std::vector<std::pair<int, int>>& edges, EliminationOrder order);
 
 /// kAuto picks CHOLMOD when slamkit was built with it. blas_threads ≤ 0 leaves BLAS alone.
 std::unique_ptr<SparseCholesky> make_sparse_cholesky(SparseBackend backend = SparseBackend::kAuto,
