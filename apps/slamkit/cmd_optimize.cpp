@@ -115,8 +115,10 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
       return true;
     };
   }
+  std::vector<std::string> gauge_notes;  // the pipeline makes the same choice; say it up front
+  gauge_vertices(g, &gauge_notes);
+  for (const std::string& n : gauge_notes) std::cerr << "slamkit: note: " << n << "\n";
   const PoseGraphResult r = optimize_pose_graph(g, o);
-  for (const std::string& n : r.notes) std::cerr << "slamkit: note: " << n << "\n";
 
   std::printf("%s", r.summary.report().c_str());
   std::printf("  initialization   %s: chi2 %.10g -> %.10g in %.4f s\n", to_string(r.init.used), r.input_chi2,

@@ -6,15 +6,23 @@ namespace slamkit {
 
 Eigen::Vector3d pose2_edge_error(const SE2& Z, const SE2& Xi, const SE2& Xj, Eigen::Matrix3d* J_e_Xi,
                                  Eigen::Matrix3d* J_e_Xj) {
-  const SE2 A = Xi.between(Xj);
-  const SE2 E = Z.between(A);
-  if (J_e_Xi || J_e_Xj) {
-    Eigen::Matrix3d J_E = Eigen::Matrix3d::Identity();
-    J_E.topLeftCorner<2, 2>() = E.rotation().matrix();
-    if (J_e_Xj) *J_e_Xj = J_E;
-    if (J_e_Xi) *J_e_Xi = -J_E * A.inverse().adjoint();
+  // A = Xi⁻¹ Xj = (R_iᵀ (t_j − t_i), θ_j − θ_i), E = Z⁻¹ A = (R_zᵀ (t_A − t_z), θ_A − θ_z).
+  const Eigen::Matrix2d Rit = Xi.rotation().matrix().transpose();
+  const Eigen::Matrix2d Rzt = Z.rotation().matrix().transpose();
+  const Eigen::Vector2d ta = Rit * (Xj.translation() - Xi.translation());
+  const double theta = wrap_angle(Xj.theta() - Xi.theta() - Z.theta());
+  const Eigen::Vector2d te = Rzt * (ta - Z.translation());
+  if (J_e_Xj) {  // J_E = diag(R_E, 1)
+    *J_e_Xj = Eigen::Matrix3d::Identity();
+    J_e_Xj->topLeftCorner<2, 2>() = SO2(theta).matrix();
   }
-  return Eigen::Vector3d(E.x(), E.y(), E.theta());
+  if (J_e_Xi) {  // −J_E Ad(A⁻¹) = [[−R_zᵀ, R_zᵀ (t_A,y, −t_A,x)ᵀ], [0, −1]]   (R_E R_Aᵀ = R_zᵀ)
+    *J_e_Xi = Eigen::Matrix3d::Zero();
+    J_e_Xi->topLeftCorner<2, 2>() = -Rzt;
+    J_e_Xi->topRightCorner<2, 1>() = Rzt * Eigen::Vector2d(ta.y(), -ta.x());
+    (*J_e_Xi)(2, 2) = -1.0;
+  }
+  return Eigen::Vector3d(te.x(), te.y(), theta);
 }
 
 Vector6d pose3_edge_error(const SE3& Z, const SE3& Xi, const SE3& Xj, Matrix6d* J_e_Xi, Matrix6d* J_e_Xj) {

@@ -160,7 +160,7 @@ EliminationOrder compute_elimination_order(int n, const std::vector<std::pair<in
     default:
       // Auto: nested dissection pays for its slower ordering only on large factorizations.
       best = cholmod_order(n, col_ptr, rows, CHOLMOD_AMD);
-      if (best.flops >= 2e6) {
+      if (best.flops >= 1e6) {
         for (int m : {CHOLMOD_METIS, CHOLMOD_NESDIS}) {
           EliminationOrder candidate = cholmod_order(n, col_ptr, rows, m);
           if (candidate.flops < best.flops) best = std::move(candidate);

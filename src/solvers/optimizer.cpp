@@ -61,10 +61,10 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
 
   s.blas_threads = options_.blas_threads > 0 ? options_.blas_threads : pool.threads();
   auto chol = make_sparse_cholesky(options_.linear_solver, options_.ordering, s.blas_threads);
-  s.linear_solver = chol->name();
   s.linear_solver_is_fallback = chol->is_fallback();
   s.time_setup_s = now_s() - t_start;
   chol->analyze(ne.hessian());  // H is stored in elimination order
+  s.linear_solver = chol->name();  // after analysis: says supernodal or simplicial
   s.ordering = ne.ordering();
   s.time_analyze_s = chol->stats().analyze_time_s;
   s.factor_nnz = chol->stats().factor_nnz;
