@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# slamkit optimize through the binary: JSON summary, errors and exit codes, and the chain
+# optimize --trajectory → eval ate against ground truth. Exit 77 = skipped (no dataset).
+set -uo pipefail
+slamkit=$1 source_dir=$2
+data=${SLAMKIT_DATA:-../shared/datasets}
+[[ "$data" == /* ]] || data="$source_dir/$data"  # relative to the source tree, like the gtests
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# 1. Built-in graph, JSON with the documented keys.
+"$slamkit" optimize sim:manhattan --json "$work/run.json" -q >"$work/out.txt" 2>&1 || fail "sim:manhattan exited non-zero: $(cat "$work/out.txt")"
+python3 - "$work/run.json" <<'PY' || fail "summary JSON lacks keys"
+import json, sys
+j = json.load(open(sys.argv[1]))
+need = ["initial_chi2", "final_chi2", "iterations", "linear_solves", "time_total_s", "time_linear_solver_s",
+        "solver", "init", "linear_solver", "threads", "termination", "trace", "kind"]
+missing = [k for k in need if k not in j]
+assert not missing, missing
+assert j["final_chi2"] < j["initial_chi2"] and j["solver"] == "gn" and j["init"] == "linear", j
+PY
+grep -q "termination" "$work/out.txt" || fail "no summary printed"
+
+# 2. Errors: non-zero exit, message names the problem.
+"$slamkit" optimize "$work/missing.g2o" >"$work/err.txt" 2>&1 && fail "missing file accepted"
+grep -q "missing.g2o" "$work/err.txt" || fail "missing-file message does not name the file"
+"$slamkit" optimize sim:manhattan --solver magic >"$work/err.txt" 2>&1 && fail "unknown solver accepted"
+grep -q "unknown solver 'magic'" "$work/err.txt" || fail "unknown-solver message: $(cat "$work/err.txt")"
+"$slamkit" optimize sim:manhattan --robust huber >"$work/err.txt" 2>&1 && fail "robust spec without delta accepted"
+printf 'VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 nan\n' >"$work/nan.g2o"
+"$slamkit" optimize "$work/nan.g2o" >"$work/err.txt" 2>&1 && fail "NaN accepted"
+grep -q "nan.g2o:2" "$work/err.txt" || fail "NaN message lacks file:line: $(cat "$work/err.txt")"
+
+# 3. Dataset checks (skip when the data is not there, unless CI).
+if [[ ! -d "$data/posegraph" ]]; then
+  [[ "${CI:-}" == true ]] && fail "dataset missing under CI: $data"
+  echo "SKIPPED: dataset not found: $data"; exit 77
+fi
+"$slamkit" optimize "$data/posegraph/3d/cubicle.g2o" -q >"$work/err.txt" 2>&1 && fail "indefinite information accepted"
+grep -q -- "--repair-information" "$work/err.txt" || fail "no repair hint: $(cat "$work/err.txt")"
+# Ground truth of sphere2500: its noise-free measurements composed along the odometry.
+"$slamkit" optimize "$data/posegraph/3d/gtsam_txt/sphere2500_groundtruth.txt" --init none --max-iterations 0 \
+  --trajectory "$work/gt.tum" -q >/dev/null 2>&1 || fail "ground-truth export failed"
+"$slamkit" optimize "$data/posegraph/3d/sphere2500.g2o" --trajectory "$work/est.tum" -q >/dev/null 2>&1 || fail "sphere2500 failed"
+"$slamkit" eval ate "$work/est.tum" "$work/gt.tum" --align se3 --json "$work/ate.json" >/dev/null || fail "eval of the trajectory failed"
+python3 - "$work/ate.json" <<'PY' || fail "ATE of sphere2500 out of range"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["pairs"] == 2500 and 0.05 < j["rmse"] < 0.5, (j["pairs"], j["rmse"])
+print("sphere2500 ATE rmse %.4f m over %d poses" % (j["rmse"], j["pairs"]))
+PY
+echo "PASS"
