@@ -151,6 +151,7 @@ std::int64_t read_id(const TextReader& r, std::size_t i, std::string_view name) 
 Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i) {
   // (x, y, z, w): the layout of Eigen's coeffs(), so norm() below is the very norm SO3 computes.
   Eigen::Vector4d c(r.number(i, "qx"), r.number(i + 1, "qy"), r.number(i + 2, "qz"), r.number(i + 3, "qw"));
+  if (c.norm() == 1.0) return Eigen::Quaterniond(c[3], c[0], c[1], c[2]);  // a fixed point: keep every bit
   const double largest = c.cwiseAbs().maxCoeff();
   if (largest == 0.0) r.fail("quaternion", "zero quaternion cannot be normalized");
   c /= largest;  // no overflow or underflow in the norm below

@@ -195,6 +195,9 @@ TEST(PoseGraphIo, RecordsInformationHealthAndRepairsOnRequest) {
   EXPECT_EQ(repaired.information.indefinite, 1u);  // health as read
   EXPECT_EQ(repaired.repaired_information, 2u);
   EXPECT_EQ(check_information(h).bad(), 0u);
+  // Repaired matrices stay exactly symmetric, so they survive a write → read (found by fuzzing).
+  for (const GraphEdge& e : h.edges) EXPECT_EQ(e.information, e.information.transpose());
+  EXPECT_TRUE(testing::same_graph(h, read_text(pose_graph_to_string(h, PoseGraphFormat::kG2o)), 0.0, 0.0));
 }
 
 TEST(PoseGraphIo, ImpossibleConversionsFailBeforeWriting) {
