@@ -148,18 +148,10 @@ std::int64_t read_id(const TextReader& r, std::size_t i, std::string_view name) 
   return id;
 }
 
-Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i) {
-  // (x, y, z, w): the layout of Eigen's coeffs(), so norm() below is the very norm SO3 computes.
-  Eigen::Vector4d c(r.number(i, "qx"), r.number(i + 1, "qy"), r.number(i + 2, "qz"), r.number(i + 3, "qw"));
-  if (c.norm() == 1.0) return Eigen::Quaterniond(c[3], c[0], c[1], c[2]);  // a fixed point: keep every bit
-  const double largest = c.cwiseAbs().maxCoeff();
-  if (largest == 0.0) r.fail("quaternion", "zero quaternion cannot be normalized");
-  c /= largest;  // no overflow or underflow in the norm below
-  const double norm = largest * c.norm();
-  if (norm < 1e-6) {
-    r.fail("quaternion", "quaternion norm " + std::to_string(norm) +
-                             " is too small to normalize (expected a unit quaternion)");
-  }
+Eigen::Quaterniond exact_unit_quaternion(const Eigen::Quaterniond& q) {
+  Eigen::Vector4d c = q.coeffs();  // (x, y, z, w): the very vector whose norm() SO3 divides by
+  if (c.norm() == 1.0) return q;
+  c /= c.cwiseAbs().maxCoeff();  // no overflow or underflow in the norm below
   c /= c.norm();
   // Nudge the largest component by single ulps until norm() is exactly 1.0: then SO3's own
   // normalization (q / norm()) is the identity and write → read reproduces every bit.
@@ -172,6 +164,22 @@ Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i) {
     c[k] = std::nextafter(c[k], toward);
   }
   return Eigen::Quaterniond(c[3], c[0], c[1], c[2]);
+}
+
+Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i) {
+  const Eigen::Quaterniond q(r.number(i + 3, "qw"), r.number(i, "qx"), r.number(i + 1, "qy"), r.number(i + 2, "qz"));
+  const double largest = q.coeffs().cwiseAbs().maxCoeff();
+  if (largest == 0.0) r.fail("quaternion", "zero quaternion cannot be normalized");
+  const double norm = largest * (q.coeffs() / largest).norm();
+  if (norm < 1e-6) {
+    r.fail("quaternion", "quaternion norm " + std::to_string(norm) +
+                             " is too small to normalize (expected a unit quaternion)");
+  }
+  return exact_unit_quaternion(q);
+}
+
+SE3 exact_unit_rotation(const SE3& T) {
+  return SE3(exact_unit_quaternion(T.rotation().quaternion()), T.translation());
 }
 
 const char* information_field_name(int row, int col) {

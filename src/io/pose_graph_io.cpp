@@ -86,6 +86,18 @@ std::size_t complete_estimates(PoseGraph& g) {
   return n;
 }
 
+// Every rotation the reader hands out (parsed, from roll/pitch/yaw, or composed by the
+// odometry completion) is an exact-unit quaternion, a fixed point of g2o write → read.
+void canonicalize_rotations(PoseGraph& g) {
+  for (std::size_t i = 0; i < g.vertices().size(); ++i) {
+    GraphVertex& v = g.vertex_at(i);
+    if (v.kind == VertexKind::kPose3) v.pose3 = io_detail::exact_unit_rotation(v.pose3);
+  }
+  for (GraphEdge& e : g.edges)
+    if (e.kind == EdgeKind::kPose3Pose3) e.pose3 = io_detail::exact_unit_rotation(e.pose3);
+  for (auto& [id, offset] : g.sensor_offsets) offset = io_detail::exact_unit_rotation(offset);
+}
+
 PoseGraph read_records(TextReader& r, const PoseGraphReadOptions& options, PoseGraphReadReport& report) {
   PoseGraph g;
   g.source = r.source();
@@ -129,6 +141,7 @@ PoseGraph read_records(TextReader& r, const PoseGraphReadOptions& options, PoseG
   g.format = to_string(format);
   report.edges_only = builder.finish() && !g.edges.empty();
   if (report.edges_only && options.complete_estimates) report.completed_estimates = complete_estimates(g);
+  canonicalize_rotations(g);
   report.information = check_information(g);
   if (options.repair_information) {
     report.repaired_information = repair_information(g);
