@@ -252,6 +252,48 @@ void append_upper_triangle(std::string& out, const Eigen::MatrixXd& omega) {
   }
 }
 
+void check_writable(const PoseGraph& g) {
+  constexpr std::int64_t kMaxId = std::numeric_limits<std::int64_t>::max() - 1;
+  auto fail = [&g](int line, const std::string& message) { throw InputError(g.source, line, "", "cannot write: " + message); };
+  for (const GraphVertex& v : g.vertices()) {
+    const std::string name = "vertex " + std::to_string(v.id);
+    if (v.id < 0 || v.id > kMaxId) fail(v.line, name + ": id out of range");
+    if (!v.has_estimate) continue;
+    const bool finite = v.pose2.translation().allFinite() && std::isfinite(v.pose2.theta()) &&
+                        v.pose3.translation().allFinite() && v.pose3.rotation().quaternion().coeffs().allFinite() &&
+                        v.point.allFinite();
+    if (!finite) fail(v.line, name + " has a non-finite estimate");
+  }
+  for (const GraphEdge& e : g.edges) {
+    const std::string name = "edge " + std::to_string(e.from) + "-" + std::to_string(e.to);
+    const int n = error_dim(e.kind);
+    if (e.information.rows() != n || e.information.cols() != n) {
+      fail(e.line, name + " has a " + std::to_string(e.information.rows()) + "x" +
+                       std::to_string(e.information.cols()) + " information matrix, expected " + std::to_string(n) +
+                       "x" + std::to_string(n));
+    }
+    const bool finite = e.pose2.translation().allFinite() && std::isfinite(e.pose2.theta()) &&
+                        e.pose3.translation().allFinite() && e.pose3.rotation().quaternion().coeffs().allFinite() &&
+                        e.point.allFinite() && e.information.allFinite();
+    if (!finite) fail(e.line, name + " has non-finite values");
+    if (e.from == e.to) fail(e.line, name + " connects a vertex to itself");
+    const EndpointKinds want = endpoint_kinds(e.kind);
+    const auto a = g.index_of(e.from), b = g.index_of(e.to);
+    if (!a || !b) fail(e.line, name + " names a vertex the graph does not have");
+    if (g.vertices()[*a].kind != want.from || g.vertices()[*b].kind != want.to)
+      fail(e.line, name + ": a " + to_string(e.kind) + " edge between vertices of other kinds");
+    if (e.kind == EdgeKind::kPose3Point3 && !g.sensor_offsets.count(e.sensor_offset_id))
+      fail(e.line, name + " uses the unknown sensor offset " + std::to_string(e.sensor_offset_id));
+  }
+  for (std::int64_t id : g.fixed)
+    if (!g.index_of(id)) fail(0, "FIX names unknown vertex " + std::to_string(id));
+  for (const auto& [a, b] : g.equivalences)
+    if (!g.index_of(a) || !g.index_of(b) || a == b) fail(0, "bad EQUIV " + std::to_string(a) + " " + std::to_string(b));
+  for (const auto& [id, offset] : g.sensor_offsets)
+    if (id < 0 || !offset.translation().allFinite() || !offset.rotation().quaternion().coeffs().allFinite())
+      fail(0, "bad sensor offset " + std::to_string(id));
+}
+
 bool vertices_to_write(const PoseGraph& g, const char* format) {
   const auto& vs = g.vertices();
   const auto with = std::count_if(vs.begin(), vs.end(), [](const GraphVertex& v) { return v.has_estimate; });

@@ -89,6 +89,10 @@ void append_integer(std::string& out, std::int64_t v);
 void append_numbers(std::string& out, std::initializer_list<double> values);
 /// Appends the upper triangle of omega row by row, each preceded by ' '.
 void append_upper_triangle(std::string& out, const Eigen::MatrixXd& omega);
+/// Everything a writer relies on, for graphs built in memory: finite numbers, information of
+/// the right size, ids in range, edges between existing vertices of the right kinds, known
+/// sensor offsets, FIX/EQUIV of existing vertices. Throws InputError naming the element.
+void check_writable(const PoseGraph& g);
 /// Fails unless all vertices have an estimate or none has (then returns false: write edges only).
 bool vertices_to_write(const PoseGraph& g, const char* format);
 

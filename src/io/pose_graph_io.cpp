@@ -99,6 +99,7 @@ void canonicalize_rotations(PoseGraph& g) {
 }
 
 PoseGraph read_records(TextReader& r, const PoseGraphReadOptions& options, PoseGraphReadReport& report) {
+  report = PoseGraphReadReport{};
   PoseGraph g;
   g.source = r.source();
   GraphBuilder builder(g, report.warnings);
@@ -170,42 +171,11 @@ PoseGraph read_pose_graph(const std::string& path, const PoseGraphReadOptions& o
   return read_records(*reader, options, report ? *report : local);
 }
 
-namespace {
-
-// Everything a writer needs from an in-memory graph: finite numbers, well-sized information.
-void check_writable(const PoseGraph& g) {
-  for (const GraphVertex& v : g.vertices()) {
-    if (!v.has_estimate) continue;
-    const bool finite = v.pose2.translation().allFinite() && std::isfinite(v.pose2.theta()) &&
-                        v.pose3.translation().allFinite() && v.pose3.rotation().quaternion().coeffs().allFinite() &&
-                        v.point.allFinite();
-    if (!finite) throw InputError(g.source, v.line, "", "vertex " + std::to_string(v.id) + " has a non-finite estimate");
-  }
-  for (const GraphEdge& e : g.edges) {
-    const int n = error_dim(e.kind);
-    if (e.information.rows() != n || e.information.cols() != n) {
-      throw InputError(g.source, e.line, "information",
-                       "edge " + std::to_string(e.from) + "-" + std::to_string(e.to) + " has a " +
-                           std::to_string(e.information.rows()) + "x" + std::to_string(e.information.cols()) +
-                           " information matrix, expected " + std::to_string(n) + "x" + std::to_string(n));
-    }
-    const bool finite = e.pose2.translation().allFinite() && std::isfinite(e.pose2.theta()) &&
-                        e.pose3.translation().allFinite() && e.pose3.rotation().quaternion().coeffs().allFinite() &&
-                        e.point.allFinite() && e.information.allFinite();
-    if (!finite) {
-      throw InputError(g.source, e.line, "",
-                       "edge " + std::to_string(e.from) + "-" + std::to_string(e.to) + " has non-finite values");
-    }
-  }
-}
-
-}  // namespace
-
 std::string pose_graph_to_string(const PoseGraph& g, PoseGraphFormat format, std::vector<std::string>* warnings) {
   if (format == PoseGraphFormat::kAuto)
     format = g.format.empty() ? PoseGraphFormat::kG2o : parse_pose_graph_format(g.format);
   if (format == PoseGraphFormat::kAuto) format = PoseGraphFormat::kG2o;
-  check_writable(g);
+  io_detail::check_writable(g);
   std::string out;
   out.reserve(64 * (g.vertices().size() + 2 * g.edges.size()) + 256);
   switch (format) {

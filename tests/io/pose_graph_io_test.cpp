@@ -226,6 +226,17 @@ TEST(PoseGraphIo, ImpossibleConversionsFailBeforeWriting) {
   broken = planar;
   broken.vertex_at(1).pose2 = SE2(std::nan(""), 0.0, 0.0);
   EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
+  // Graphs built in memory are checked too: the written file must be readable.
+  broken = planar;
+  broken.edges[0].to = 9;
+  EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
+  broken = planar;
+  broken.fixed.push_back(7);
+  EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
+  broken = planar;
+  broken.edges[0].kind = EdgeKind::kPose2Point2;
+  broken.edges[0].information = Eigen::Matrix2d::Identity();
+  EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
 }
 
 TEST(PoseGraphIo, DroppedElementsAreReportedAsWarnings) {
