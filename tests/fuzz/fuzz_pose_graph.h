@@ -84,7 +84,8 @@ inline int fuzz_pose_graph(const std::uint8_t* data, std::size_t size, PoseGraph
   try {
     std::istringstream in(text);
     g = read_pose_graph(in, name, options, &report);
-  } catch (const InputError&) {
+  } catch (const InputError& e) {
+    if (e.file() != name) violation("an InputError that does not name the input");
     return 0;  // rejected with file, line and field: the expected outcome
   }
   // Downstream consumers must cope with any accepted graph.
