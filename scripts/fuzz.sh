@@ -40,7 +40,7 @@ for t in "${targets[@]}"; do
   "$build/fuzz/fuzz_$t" "$corpus" \
     -dict="$root/tests/fuzz/pose_graph.dict" -max_len=4096 -max_total_time="$seconds" \
     -print_final_stats=1 -artifact_prefix="$root/fuzz-corpus/crash-$t-" 2>&1 | tee "$root/fuzz-corpus/$t.log" \
-    | grep -E "^#[0-9]+ +(INITED|DONE|pulse)|stat::|ERROR|SUMMARY|property|crash-" || true
+    | grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^Done|stat::|ERROR|SUMMARY|property|crash-" || true
   if grep -qE "ERROR: |SUMMARY: |fuzz property violated|deadly signal" "$root/fuzz-corpus/$t.log"; then
     echo "fuzz_$t FOUND A BUG (see $root/fuzz-corpus/$t.log)" >&2
     status=1
