@@ -96,6 +96,9 @@ void run_info(const InfoOptions& o) {
   j["initial_chi2"] = chi2;
   j["load_time_s"] = load_time;
   j["warnings"] = report.warnings;
+  j["options"] = {{"format", o.format},
+                  {"repair_information", o.repair_information},
+                  {"allow_unknown_tags", o.allow_unknown_tags}};
   if (!o.json.empty()) write_json(o.json, j);
   if (o.json == "-") return;  // JSON on stdout: nothing else there
 
@@ -131,6 +134,8 @@ void run_info(const InfoOptions& o) {
                                                      ? " (with repaired information)"
                                                      : ""));
   row("load time", fixed_digits(load_time, 3) + " s");
+  row("options", "--format " + o.format + (o.repair_information ? " --repair-information" : "") +
+                     (o.allow_unknown_tags ? " --allow-unknown-tags" : ""));
 }
 
 }  // namespace

@@ -148,17 +148,10 @@ std::int64_t read_id(const TextReader& r, std::size_t i, std::string_view name) 
   return id;
 }
 
-Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i) {
-  // (x, y, z, w): the layout of Eigen's coeffs(), so norm() below is the very norm SO3 computes.
-  Eigen::Vector4d c(r.number(i, "qx"), r.number(i + 1, "qy"), r.number(i + 2, "qz"), r.number(i + 3, "qw"));
-  const double largest = c.cwiseAbs().maxCoeff();
-  if (largest == 0.0) r.fail("quaternion", "zero quaternion cannot be normalized");
-  c /= largest;  // no overflow or underflow in the norm below
-  const double norm = largest * c.norm();
-  if (norm < 1e-6) {
-    r.fail("quaternion", "quaternion norm " + std::to_string(norm) +
-                             " is too small to normalize (expected a unit quaternion)");
-  }
+Eigen::Quaterniond exact_unit_quaternion(const Eigen::Quaterniond& q) {
+  Eigen::Vector4d c = q.coeffs();  // (x, y, z, w): the very vector whose norm() SO3 divides by
+  if (c.norm() == 1.0) return q;
+  c /= c.cwiseAbs().maxCoeff();  // no overflow or underflow in the norm below
   c /= c.norm();
   // Nudge the largest component by single ulps until norm() is exactly 1.0: then SO3's own
   // normalization (q / norm()) is the identity and write → read reproduces every bit.
@@ -171,6 +164,22 @@ Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i) {
     c[k] = std::nextafter(c[k], toward);
   }
   return Eigen::Quaterniond(c[3], c[0], c[1], c[2]);
+}
+
+Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i) {
+  const Eigen::Quaterniond q(r.number(i + 3, "qw"), r.number(i, "qx"), r.number(i + 1, "qy"), r.number(i + 2, "qz"));
+  const double largest = q.coeffs().cwiseAbs().maxCoeff();
+  if (largest == 0.0) r.fail("quaternion", "zero quaternion cannot be normalized");
+  const double norm = largest * (q.coeffs() / largest).norm();
+  if (norm < 1e-6) {
+    r.fail("quaternion", "quaternion norm " + std::to_string(norm) +
+                             " is too small to normalize (expected a unit quaternion)");
+  }
+  return exact_unit_quaternion(q);
+}
+
+SE3 exact_unit_rotation(const SE3& T) {
+  return SE3(exact_unit_quaternion(T.rotation().quaternion()), T.translation());
 }
 
 const char* information_field_name(int row, int col) {
@@ -241,6 +250,48 @@ void append_upper_triangle(std::string& out, const Eigen::MatrixXd& omega) {
       append_number(out, omega(row, col));
     }
   }
+}
+
+void check_writable(const PoseGraph& g) {
+  constexpr std::int64_t kMaxId = std::numeric_limits<std::int64_t>::max() - 1;
+  auto fail = [&g](int line, const std::string& message) { throw InputError(g.source, line, "", "cannot write: " + message); };
+  for (const GraphVertex& v : g.vertices()) {
+    const std::string name = "vertex " + std::to_string(v.id);
+    if (v.id < 0 || v.id > kMaxId) fail(v.line, name + ": id out of range");
+    if (!v.has_estimate) continue;
+    const bool finite = v.pose2.translation().allFinite() && std::isfinite(v.pose2.theta()) &&
+                        v.pose3.translation().allFinite() && v.pose3.rotation().quaternion().coeffs().allFinite() &&
+                        v.point.allFinite();
+    if (!finite) fail(v.line, name + " has a non-finite estimate");
+  }
+  for (const GraphEdge& e : g.edges) {
+    const std::string name = "edge " + std::to_string(e.from) + "-" + std::to_string(e.to);
+    const int n = error_dim(e.kind);
+    if (e.information.rows() != n || e.information.cols() != n) {
+      fail(e.line, name + " has a " + std::to_string(e.information.rows()) + "x" +
+                       std::to_string(e.information.cols()) + " information matrix, expected " + std::to_string(n) +
+                       "x" + std::to_string(n));
+    }
+    const bool finite = e.pose2.translation().allFinite() && std::isfinite(e.pose2.theta()) &&
+                        e.pose3.translation().allFinite() && e.pose3.rotation().quaternion().coeffs().allFinite() &&
+                        e.point.allFinite() && e.information.allFinite();
+    if (!finite) fail(e.line, name + " has non-finite values");
+    if (e.from == e.to) fail(e.line, name + " connects a vertex to itself");
+    const EndpointKinds want = endpoint_kinds(e.kind);
+    const auto a = g.index_of(e.from), b = g.index_of(e.to);
+    if (!a || !b) fail(e.line, name + " names a vertex the graph does not have");
+    if (g.vertices()[*a].kind != want.from || g.vertices()[*b].kind != want.to)
+      fail(e.line, name + ": a " + to_string(e.kind) + " edge between vertices of other kinds");
+    if (e.kind == EdgeKind::kPose3Point3 && !g.sensor_offsets.count(e.sensor_offset_id))
+      fail(e.line, name + " uses the unknown sensor offset " + std::to_string(e.sensor_offset_id));
+  }
+  for (std::int64_t id : g.fixed)
+    if (!g.index_of(id)) fail(0, "FIX names unknown vertex " + std::to_string(id));
+  for (const auto& [a, b] : g.equivalences)
+    if (!g.index_of(a) || !g.index_of(b) || a == b) fail(0, "bad EQUIV " + std::to_string(a) + " " + std::to_string(b));
+  for (const auto& [id, offset] : g.sensor_offsets)
+    if (id < 0 || !offset.translation().allFinite() || !offset.rotation().quaternion().coeffs().allFinite())
+      fail(0, "bad sensor offset " + std::to_string(id));
 }
 
 bool vertices_to_write(const PoseGraph& g, const char* format) {

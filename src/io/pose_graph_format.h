@@ -67,9 +67,14 @@ void expect_record(const TextReader& r, std::initializer_list<const char*> head,
 
 /// A vertex id: an integer in [0, 2⁶³ − 2] (so that id + 1 and id differences never overflow).
 std::int64_t read_id(const TextReader& r, std::size_t i, std::string_view name);
-/// Fields i..i+3 = qx qy qz qw, normalized so that Eigen's norm() of the result is exactly
-/// 1.0 (normalizing it again changes no bit; this makes write → read bit-identical).
-/// Fails on a zero quaternion or one of norm < 1e-6.
+/// q/‖q‖, then nudged by single ulps until Eigen's norm() of it is exactly 1.0, so that
+/// normalizing it again (as SO3 does) changes no bit: the fixed point that makes g2o
+/// write → read bit-identical. q must be non-zero and finite.
+Eigen::Quaterniond exact_unit_quaternion(const Eigen::Quaterniond& q);
+/// T with its rotation replaced by exact_unit_quaternion of it.
+SE3 exact_unit_rotation(const SE3& T);
+/// Fields i..i+3 = qx qy qz qw as exact_unit_quaternion. Fails on a zero quaternion or one of
+/// norm < 1e-6.
 Eigen::Quaterniond read_quaternion(const TextReader& r, std::size_t i);
 /// Fields i.. hold the upper triangle of an n×n matrix row by row (g2o order); names "I11"...
 Eigen::MatrixXd read_upper_triangle(const TextReader& r, std::size_t i, int n);
@@ -84,6 +89,10 @@ void append_integer(std::string& out, std::int64_t v);
 void append_numbers(std::string& out, std::initializer_list<double> values);
 /// Appends the upper triangle of omega row by row, each preceded by ' '.
 void append_upper_triangle(std::string& out, const Eigen::MatrixXd& omega);
+/// Everything a writer relies on, for graphs built in memory: finite numbers, information of
+/// the right size, ids in range, edges between existing vertices of the right kinds, known
+/// sensor offsets, FIX/EQUIV of existing vertices. Throws InputError naming the element.
+void check_writable(const PoseGraph& g);
 /// Fails unless all vertices have an estimate or none has (then returns false: write edges only).
 bool vertices_to_write(const PoseGraph& g, const char* format);
 

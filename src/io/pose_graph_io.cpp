@@ -86,7 +86,20 @@ std::size_t complete_estimates(PoseGraph& g) {
   return n;
 }
 
+// Every rotation the reader hands out (parsed, from roll/pitch/yaw, or composed by the
+// odometry completion) is an exact-unit quaternion, a fixed point of g2o write → read.
+void canonicalize_rotations(PoseGraph& g) {
+  for (std::size_t i = 0; i < g.vertices().size(); ++i) {
+    GraphVertex& v = g.vertex_at(i);
+    if (v.kind == VertexKind::kPose3) v.pose3 = io_detail::exact_unit_rotation(v.pose3);
+  }
+  for (GraphEdge& e : g.edges)
+    if (e.kind == EdgeKind::kPose3Pose3) e.pose3 = io_detail::exact_unit_rotation(e.pose3);
+  for (auto& [id, offset] : g.sensor_offsets) offset = io_detail::exact_unit_rotation(offset);
+}
+
 PoseGraph read_records(TextReader& r, const PoseGraphReadOptions& options, PoseGraphReadReport& report) {
+  report = PoseGraphReadReport{};
   PoseGraph g;
   g.source = r.source();
   GraphBuilder builder(g, report.warnings);
@@ -129,8 +142,14 @@ PoseGraph read_records(TextReader& r, const PoseGraphReadOptions& options, PoseG
   g.format = to_string(format);
   report.edges_only = builder.finish() && !g.edges.empty();
   if (report.edges_only && options.complete_estimates) report.completed_estimates = complete_estimates(g);
+  canonicalize_rotations(g);
   report.information = check_information(g);
-  if (options.repair_information) report.repaired_information = repair_information(g);
+  if (options.repair_information) {
+    report.repaired_information = repair_information(g);
+    // project_to_psd is symmetric only to rounding; files store the upper triangle, so keep
+    // Ω exactly symmetric (the invariant every reader establishes) by mirroring it.
+    for (GraphEdge& e : g.edges) e.information.triangularView<Eigen::StrictlyLower>() = e.information.transpose();
+  }
   return g;
 }
 
@@ -152,42 +171,11 @@ PoseGraph read_pose_graph(const std::string& path, const PoseGraphReadOptions& o
   return read_records(*reader, options, report ? *report : local);
 }
 
-namespace {
-
-// Everything a writer needs from an in-memory graph: finite numbers, well-sized information.
-void check_writable(const PoseGraph& g) {
-  for (const GraphVertex& v : g.vertices()) {
-    if (!v.has_estimate) continue;
-    const bool finite = v.pose2.translation().allFinite() && std::isfinite(v.pose2.theta()) &&
-                        v.pose3.translation().allFinite() && v.pose3.rotation().quaternion().coeffs().allFinite() &&
-                        v.point.allFinite();
-    if (!finite) throw InputError(g.source, v.line, "", "vertex " + std::to_string(v.id) + " has a non-finite estimate");
-  }
-  for (const GraphEdge& e : g.edges) {
-    const int n = error_dim(e.kind);
-    if (e.information.rows() != n || e.information.cols() != n) {
-      throw InputError(g.source, e.line, "information",
-                       "edge " + std::to_string(e.from) + "-" + std::to_string(e.to) + " has a " +
-                           std::to_string(e.information.rows()) + "x" + std::to_string(e.information.cols()) +
-                           " information matrix, expected " + std::to_string(n) + "x" + std::to_string(n));
-    }
-    const bool finite = e.pose2.translation().allFinite() && std::isfinite(e.pose2.theta()) &&
-                        e.pose3.translation().allFinite() && e.pose3.rotation().quaternion().coeffs().allFinite() &&
-                        e.point.allFinite() && e.information.allFinite();
-    if (!finite) {
-      throw InputError(g.source, e.line, "",
-                       "edge " + std::to_string(e.from) + "-" + std::to_string(e.to) + " has non-finite values");
-    }
-  }
-}
-
-}  // namespace
-
 std::string pose_graph_to_string(const PoseGraph& g, PoseGraphFormat format, std::vector<std::string>* warnings) {
   if (format == PoseGraphFormat::kAuto)
     format = g.format.empty() ? PoseGraphFormat::kG2o : parse_pose_graph_format(g.format);
   if (format == PoseGraphFormat::kAuto) format = PoseGraphFormat::kG2o;
-  check_writable(g);
+  io_detail::check_writable(g);
   std::string out;
   out.reserve(64 * (g.vertices().size() + 2 * g.edges.size()) + 256);
   switch (format) {

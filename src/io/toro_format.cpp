@@ -72,6 +72,8 @@ void write_toro(const PoseGraph& g, std::string& out, std::vector<std::string>* 
     }
     for (const GraphEdge& e : g.edges) {
       const Eigen::Matrix3d w = g2o_to_toro2d_information(e.information, e.pose2.theta());
+      if (!w.allFinite())
+        throw InputError(g.source, e.line, "information", "information overflows in TORO's convention");
       out += "EDGE2 ";
       append_integer(out, e.from);
       out += ' ';

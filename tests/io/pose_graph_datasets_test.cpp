@@ -220,7 +220,9 @@ TEST_P(PoseGraphDataset, CountsAndInitialChi2MatchTheIndependentComputation) {
   const double chi2 = reference_chi2(ref);
   const std::size_t ids = ref.poses2.size() + ref.poses3.size();
   EXPECT_EQ(g.vertices().size(), ids);
-  if (row.vertex_lines > 0) EXPECT_EQ(g.vertices().size(), static_cast<std::size_t>(row.vertex_lines));
+  if (row.vertex_lines > 0) {
+    EXPECT_EQ(g.vertices().size(), static_cast<std::size_t>(row.vertex_lines));
+  }
   EXPECT_NEAR(total_chi2(g) / chi2, 1.0, 1e-9) << total_chi2(g) << " vs " << chi2;
 }
 

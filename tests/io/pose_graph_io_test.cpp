@@ -195,6 +195,9 @@ TEST(PoseGraphIo, RecordsInformationHealthAndRepairsOnRequest) {
   EXPECT_EQ(repaired.information.indefinite, 1u);  // health as read
   EXPECT_EQ(repaired.repaired_information, 2u);
   EXPECT_EQ(check_information(h).bad(), 0u);
+  // Repaired matrices stay exactly symmetric, so they survive a write → read (found by fuzzing).
+  for (const GraphEdge& e : h.edges) EXPECT_EQ(e.information, e.information.transpose());
+  EXPECT_TRUE(testing::same_graph(h, read_text(pose_graph_to_string(h, PoseGraphFormat::kG2o)), 0.0, 0.0));
 }
 
 TEST(PoseGraphIo, ImpossibleConversionsFailBeforeWriting) {
@@ -222,6 +225,17 @@ TEST(PoseGraphIo, ImpossibleConversionsFailBeforeWriting) {
   EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
   broken = planar;
   broken.vertex_at(1).pose2 = SE2(std::nan(""), 0.0, 0.0);
+  EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
+  // Graphs built in memory are checked too: the written file must be readable.
+  broken = planar;
+  broken.edges[0].to = 9;
+  EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
+  broken = planar;
+  broken.fixed.push_back(7);
+  EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
+  broken = planar;
+  broken.edges[0].kind = EdgeKind::kPose2Point2;
+  broken.edges[0].information = Eigen::Matrix2d::Identity();
   EXPECT_THROW(pose_graph_to_string(broken, PoseGraphFormat::kG2o), InputError);
 }
 

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Builds the pose-graph fuzzers (clang, libFuzzer + AddressSanitizer + UBSan, libraries
+# instrumented too) and runs them on a corpus seeded from tests/fuzz/seeds/.
+#
+#   scripts/fuzz.sh [TARGET] [SECONDS]
+#     TARGET   g2o | toro | gtsam | all   (default: all, one after the other)
+#     SECONDS  time per target            (default: 60)
+#
+# The corpus grows in fuzz-corpus/<target>/ (git-ignored); a crash is saved as
+# fuzz-corpus/crash-<target>-<hash> and reproduces with: build-fuzz/fuzz/fuzz_<target> FILE.
+# The log of each run (exec count, coverage) is fuzz-corpus/<target>.log.
+# Environment: SLAMKIT_FUZZ_BUILD (build dir, default build-fuzz), JOBS (build jobs, default 2).
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+target=${1:-all}
+seconds=${2:-60}
+build=${SLAMKIT_FUZZ_BUILD:-$root/build-fuzz}
+jobs=${JOBS:-2}
+
+case "$target" in
+  all) targets=(g2o toro gtsam) ;;
+  g2o | toro | gtsam) targets=("$target") ;;
+  *) echo "usage: $0 [g2o|toro|gtsam|all] [SECONDS]" >&2; exit 2 ;;
+esac
+
+if [[ ! -f "$build/CMakeCache.txt" ]]; then
+  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DSLAMKIT_BUILD_FUZZERS=ON -DSLAMKIT_BUILD_TESTS=OFF -DSLAMKIT_BUILD_BENCHMARKS=OFF -DSLAMKIT_BUILD_EXAMPLES=OFF
+fi
+cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+
+mkdir -p "$root/fuzz-corpus"
+status=0
+for t in "${targets[@]}"; do
+  corpus="$root/fuzz-corpus/$t"
+  mkdir -p "$corpus"
+  cp -n "$root/tests/fuzz/seeds/$t/"* "$corpus/" 2>/dev/null || true
+  echo "== fuzz_$t for ${seconds}s, corpus $corpus"
+  "$build/fuzz/fuzz_$t" "$corpus" \
+    -dict="$root/tests/fuzz/pose_graph.dict" -max_len=4096 -max_total_time="$seconds" \
+    -print_final_stats=1 -artifact_prefix="$root/fuzz-corpus/crash-$t-" 2>&1 | tee "$root/fuzz-corpus/$t.log" \
+    | grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^Done|stat::|ERROR|SUMMARY|property|crash-" || true
+  if grep -qE "ERROR: |SUMMARY: |fuzz property violated|deadly signal" "$root/fuzz-corpus/$t.log"; then
+    echo "fuzz_$t FOUND A BUG (see $root/fuzz-corpus/$t.log)" >&2
+    status=1
+  fi
+done
+exit $status

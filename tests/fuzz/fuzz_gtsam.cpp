@@ -1,0 +1,6 @@
+// libFuzzer target: the gtsam pose-graph reader (see fuzz_pose_graph.h for the properties checked).
+#include "fuzz_pose_graph.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return slamkit::fuzz::fuzz_pose_graph(data, size, slamkit::PoseGraphFormat::kGtsam, "fuzz.txt");
+}
