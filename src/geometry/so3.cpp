@@ -26,11 +26,18 @@ SO3 SO3::from_rpy(double roll, double pitch, double yaw) {
 }
 
 Eigen::Vector3d SO3::to_rpy() const {
+  // R = Rz(y) Ry(p) Rx(r). Pitch and yaw come from R; roll from what is left,
+  // Ry(p)ᵀ Rz(y)ᵀ R = Rx(r), so it absorbs yaw's error and the angles reproduce R to rounding
+  // even at gimbal lock (|p| → π/2), where roll and yaw alone are ill-determined.
   const Eigen::Matrix3d R = matrix();
-  // R = Rz(y) Ry(p) Rx(r): R(2,0) = −sin p, R(2,1) = cos p sin r, R(1,0) = sin y cos p.
   const double pitch = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
-  const double roll = std::atan2(R(2, 1), R(2, 2));
   const double yaw = std::atan2(R(1, 0), R(0, 0));
+  const Eigen::Matrix3d rest = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix()
+                                   .transpose() *
+                               R;
+  const double roll = std::atan2(rest(2, 1), rest(1, 1));
   return Eigen::Vector3d(roll, pitch, yaw);
 }
 

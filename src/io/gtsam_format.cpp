@@ -23,23 +23,9 @@ SE3 read_pose_rpy(const TextReader& r, std::size_t i) {
   return SE3(SO3::from_rpy(roll, pitch, yaw), t);
 }
 
-// Roll, pitch, yaw with R = Rz(yaw)·Ry(pitch)·Rx(roll) that reproduce R to rounding even at
-// gimbal lock (|pitch| → π/2), where roll and yaw are each ill-determined: pitch and yaw come
-// from R, then roll from what is left, Ry(pitch)ᵀ·Rz(yaw)ᵀ·R = Rx(roll), so it absorbs yaw's
-// error. (SO3::to_rpy computes roll and yaw independently and loses ~ε/cos(pitch) there.)
-Eigen::Vector3d roll_pitch_yaw(const SO3& rotation) {
-  const Eigen::Matrix3d R = rotation.matrix();
-  const double pitch = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
-  const double yaw = std::atan2(R(1, 0), R(0, 0));
-  const Eigen::Matrix3d rest = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-                                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY())).toRotationMatrix().transpose() * R;
-  const double roll = std::atan2(rest(2, 1), rest(1, 1));
-  return Eigen::Vector3d(roll, pitch, yaw);
-}
-
 void append_pose_rpy(std::string& out, const SE3& T) {
   const Eigen::Vector3d& t = T.translation();
-  const Eigen::Vector3d rpy = roll_pitch_yaw(T.rotation());
+  const Eigen::Vector3d rpy = T.rotation().to_rpy();
   append_numbers(out, {t.x(), t.y(), t.z(), rpy.x(), rpy.y(), rpy.z()});
 }
 

@@ -144,12 +144,7 @@ PoseGraph read_records(TextReader& r, const PoseGraphReadOptions& options, PoseG
   if (report.edges_only && options.complete_estimates) report.completed_estimates = complete_estimates(g);
   canonicalize_rotations(g);
   report.information = check_information(g);
-  if (options.repair_information) {
-    report.repaired_information = repair_information(g);
-    // project_to_psd is symmetric only to rounding; files store the upper triangle, so keep
-    // Ω exactly symmetric (the invariant every reader establishes) by mirroring it.
-    for (GraphEdge& e : g.edges) e.information.triangularView<Eigen::StrictlyLower>() = e.information.transpose();
-  }
+  if (options.repair_information) report.repaired_information = repair_information(g);
   return g;
 }
 

@@ -60,3 +60,19 @@ TEST(AngleWrap, StaysInHalfOpenInterval) {
 
 }  // namespace
 }  // namespace slamkit
+
+namespace slamkit {
+namespace {
+
+TEST(SO3Conventions, RollPitchYawReproducesRotationAtGimbalLock) {
+  for (double eps : {0.0, 1e-12, 1e-8, 1e-4})
+    for (double sign : {1.0, -1.0}) {
+      const SO3 R = SO3::from_rpy(0.7, sign * (kPi / 2 - eps), -1.9);
+      const Eigen::Vector3d rpy = R.to_rpy();
+      const SO3 back = SO3::from_rpy(rpy.x(), rpy.y(), rpy.z());
+      EXPECT_LT((back.matrix() - R.matrix()).norm(), 1e-14) << eps;
+    }
+}
+
+}  // namespace
+}  // namespace slamkit
