@@ -7,6 +7,8 @@
 #include <string>
 
 #include "slamkit/core/error.h"
+#include "slamkit/io/pose_graph_io.h"
+#include "slamkit/sim/pose_graph_generator.h"
 
 namespace slamkit::cli {
 
@@ -20,6 +22,24 @@ inline void write_json(const std::string& path, const nlohmann::json& j) {
   if (!out) throw InputError(path, 0, "", "cannot write JSON output");
   out << j.dump(2) << "\n";
   if (!out) throw InputError(path, 0, "", "error while writing JSON output");
+}
+
+/// A pose-graph file, or a built-in generated graph named "sim:sphere", "sim:manhattan", ...
+inline PoseGraph load_pose_graph(const std::string& spec, const PoseGraphReadOptions& options,
+                                 PoseGraphReadReport* report) {
+  PoseGraphSimOptions sim;
+  if (parse_sim_spec(spec, &sim)) {
+    PoseGraph g = generate_pose_graph(sim);
+    g.source = spec;
+    g.format = "g2o";  // what it would be written as
+    if (report) {
+      *report = PoseGraphReadReport{};
+      report->format = PoseGraphFormat::kG2o;
+      report->information = check_information(g);
+    }
+    return g;
+  }
+  return read_pose_graph(spec, options, report);
 }
 
 class Stopwatch {

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "slamkit/core/error.h"
 #include "slamkit/io/pose_graph_io.h"
@@ -38,7 +39,7 @@ void run_convert(const ConvertOptions& o) {
   read.unknown_tags_as_warnings = o.allow_unknown_tags;
   read.complete_estimates = !o.keep_edges_only;
   PoseGraphReadReport report;
-  const PoseGraph g = read_pose_graph(o.input, read, &report);
+  const PoseGraph g = load_pose_graph(o.input, read, &report);
   std::vector<std::string> warnings = report.warnings;
   if (report.information.bad() > 0 && !o.repair_information) {
     warnings.push_back(std::to_string(report.information.bad()) +

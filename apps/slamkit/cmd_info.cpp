@@ -60,7 +60,7 @@ void run_info(const InfoOptions& o) {
   read.unknown_tags_as_warnings = o.allow_unknown_tags;
   PoseGraphReadReport report;
   const Stopwatch watch;
-  const PoseGraph g = read_pose_graph(o.file, read, &report);
+  const PoseGraph g = load_pose_graph(o.file, read, &report);
   const double load_time = watch.seconds();
   for (const std::string& w : report.warnings) std::cerr << "slamkit: warning: " << w << "\n";
 

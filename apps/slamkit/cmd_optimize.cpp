@@ -66,18 +66,11 @@ void apply_config(const std::string& path, const CLI::App& cmd, OptimizeArgs& a)
 }
 
 PoseGraph load(const OptimizeArgs& a, PoseGraphReadReport* report) {
-  PoseGraphSimOptions sim;
-  if (parse_sim_spec(a.input, &sim)) {
-    PoseGraph g = generate_pose_graph(sim);
-    g.source = a.input;
-    g.format = "sim";
-    return g;
-  }
   PoseGraphReadOptions ro;
   ro.format = parse_pose_graph_format(a.format);
   ro.repair_information = a.repair_information;
   ro.unknown_tags_as_warnings = a.allow_unknown_tags;
-  return read_pose_graph(a.input, ro, report);
+  return load_pose_graph(a.input, ro, report);
 }
 
 void run(const CLI::App& cmd, OptimizeArgs a) {
