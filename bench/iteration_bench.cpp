@@ -10,6 +10,7 @@
 #include "bench_data.h"
 #include "slamkit/factors/pose_graph_problem.h"
 #include "slamkit/io/pose_graph_io.h"
+#include "slamkit/linear/blas_runtime.h"
 #include "slamkit/linear/normal_equations.h"
 #include "slamkit/linear/sparse_cholesky.h"
 #include "slamkit/solvers/pose_graph_init.h"
@@ -89,4 +90,13 @@ const int kRegistered = [] {
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  reexec_with_better_blas_core(argv);  // the kernels the CLI runs with
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  const BlasRuntime blas = blas_runtime();
+  benchmark::AddCustomContext("blas", blas.vendor + " " + blas.core);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

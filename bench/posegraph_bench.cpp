@@ -13,6 +13,7 @@
 #include "bench_data.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/io/pose_graph_io.h"
+#include "slamkit/linear/blas_runtime.h"
 
 using namespace slamkit;
 
@@ -32,6 +33,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  reexec_with_better_blas_core(argv);  // same BLAS kernels as the CLI uses
   int repeat = 5, threads = 0;
   std::string configs = "default", only, out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/posegraph.json";
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -112,6 +114,7 @@ int main(int argc, char** argv) {
                          {"ordering", last.summary.ordering},
                          {"threads", last.summary.threads},
                          {"blas_threads", last.summary.blas_threads},
+                         {"blas", last.summary.blas},
                          {"repeat", repeat}});
     }
   }

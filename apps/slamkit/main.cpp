@@ -6,8 +6,12 @@
 
 #include "commands.h"
 #include "slamkit/core/error.h"
+#include "slamkit/linear/blas_runtime.h"
 
 int main(int argc, char** argv) {
+  // OpenBLAS may not know this CPU and run generic kernels at half speed: restart with the
+  // right ones (see slamkit/linear/blas_runtime.h; SLAMKIT_KEEP_BLAS_CORE=1 opts out).
+  slamkit::reexec_with_better_blas_core(argv);
   CLI::App app{"slamkit: SLAM back-end toolkit (graph optimization, filters, VIO, evaluation)"};
   app.set_version_flag("--version", std::string("slamkit ") + SLAMKIT_VERSION);
   app.require_subcommand(1);

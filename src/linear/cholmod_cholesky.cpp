@@ -27,6 +27,36 @@ void set_blas_threads(int threads) {
   if (auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(threads);
 }
 
+// Debian's CHOLMOD 3 runs parts of the supernodal factorization in OpenMP regions of a fixed
+// CHOLMOD_OMP_NUM_THREADS = 4 threads, whatever OMP_NUM_THREADS says. On a 2-core machine that
+// oversubscribes and spends most of the factorization waking threads (sphere2500: 200 ms instead
+// of 45 ms per factorization). When the factorization is meant to be single-threaded, this guard
+// makes the calling thread's OpenMP regions inactive (max-active-levels 0, a per-task ICV since
+// OpenMP 5, so other threads of the program keep theirs) and restores the setting afterwards.
+class SerialOpenMpGuard {
+ public:
+  explicit SerialOpenMpGuard(bool active) {
+    if (!active) return;
+    using Get = int (*)();
+    get_ = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+    set_ = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+    if (!get_ || !set_) return;
+    previous_ = get_();
+    set_(0);
+  }
+  ~SerialOpenMpGuard() {
+    if (previous_ >= 0) set_(previous_);
+  }
+  SerialOpenMpGuard(const SerialOpenMpGuard&) = delete;
+  SerialOpenMpGuard& operator=(const SerialOpenMpGuard&) = delete;
+
+ private:
+  using Set = void (*)(int);
+  int (*get_)() = nullptr;
+  Set set_ = nullptr;
+  int previous_ = -1;
+};
+
 cholmod_sparse wrap_lower(int n, const std::vector<int>& col_ptr, const std::vector<int>& rows, double* values) {
   cholmod_sparse A;
   std::memset(&A, 0, sizeof(A));
@@ -59,7 +89,8 @@ cholmod_dense wrap_dense(int rows, int cols, double* x) {
 
 class CholmodCholesky final : public SparseCholesky {
  public:
-  CholmodCholesky(OrderingMethod ordering, int blas_threads) : ordering_(ordering) {
+  CholmodCholesky(OrderingMethod ordering, int blas_threads)
+      : ordering_(ordering), serial_factorization_(blas_threads == 1) {
     cholmod_start(&c_);
     // Supernodal (BLAS-3) when it pays, i.e. flops/nnz(L) ≥ 40 (CHOLMOD's switch): all 3D
     // pose graphs and large 2D ones; simplicial for sparse 2D factors, where per-supernode
@@ -121,6 +152,7 @@ class CholmodCholesky final : public SparseCholesky {
   bool factorize(const BlockSparseMatrix& A) override {
     if (!L_ || A.rows() != n_) throw std::logic_error("SparseCholesky::factorize before analyze");
     cholmod_sparse S = wrap_lower(n_, A.col_ptr(), A.row_index(), const_cast<double*>(A.values().data()));
+    SerialOpenMpGuard serial(serial_factorization_);
     const int ok = cholmod_factorize(&S, L_, &c_);
     return ok && c_.status == CHOLMOD_OK && L_->minor == L_->n;
   }
@@ -156,6 +188,7 @@ class CholmodCholesky final : public SparseCholesky {
 
  private:
   OrderingMethod ordering_;
+  bool serial_factorization_;  // blas_threads == 1: no OpenMP threads inside CHOLMOD either
   cholmod_common c_;
   cholmod_factor* L_ = nullptr;
   cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;

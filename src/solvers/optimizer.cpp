@@ -6,6 +6,7 @@
 
 #include "slamkit/core/error.h"
 #include "slamkit/core/parallel.h"
+#include "slamkit/linear/blas_runtime.h"
 #include "step_strategy.h"
 
 namespace slamkit {
@@ -60,6 +61,8 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   s.tangent_dim = ne.dim();
 
   s.blas_threads = options_.blas_threads > 0 ? options_.blas_threads : pool.threads();
+  const BlasRuntime blas = blas_runtime();
+  s.blas = blas.core.empty() ? blas.vendor : blas.vendor + " " + blas.core;
   auto chol = make_sparse_cholesky(options_.linear_solver, options_.ordering, s.blas_threads);
   s.linear_solver_is_fallback = chol->is_fallback();
   s.time_setup_s = now_s() - t_start;

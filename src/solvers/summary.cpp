@@ -76,7 +76,8 @@ std::string Summary::report() const {
   os << "  linear solver    " << linear_solver << ", ordering " << ordering
      << format(", factor nnz %.3g, %.3g flops\n", factor_nnz, factor_flops);
   if (linear_solver_is_fallback) os << "  WARNING          the fallback linear solver was used: expect slow solves\n";
-  os << format("  threads          %d linearization (%s), %d BLAS\n", threads, thread_backend.c_str(), blas_threads);
+  os << format("  threads          %d linearization (%s), %d BLAS (%s)\n", threads, thread_backend.c_str(),
+               blas_threads, blas.c_str());
   os << format("  cost (chi2)      initial %.10g -> final %.10g (%.3g%% of initial)\n", initial_cost, final_cost,
                initial_cost > 0 ? 100.0 * final_cost / initial_cost : 0.0);
   os << format("  iterations       %d (%d accepted), %d linear solves\n", iterations, accepted_steps, linear_solves);
@@ -103,6 +104,7 @@ std::string Summary::to_json() const {
   j["ordering"] = ordering;
   j["threads"] = threads;
   j["blas_threads"] = blas_threads;
+  j["blas"] = blas;
   j["thread_backend"] = thread_backend;
   j["num_variables"] = num_variables;
   j["num_fixed"] = num_fixed;
