@@ -72,6 +72,26 @@ void iteration(benchmark::State& state, const std::string& file) {
   state.SetLabel(std::to_string(pool.threads()) + " threads");
 }
 
+// The parts of an iteration that are slamkit's own: linearization (residuals, Jacobians,
+// Hessian assembly), and retract + cost of the candidate.
+void linearize(benchmark::State& state, const std::string& file) {
+  Fixture& f = fixture(file);
+  const ThreadPool pool(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(f.ne->linearize(f.problem.values, pool));
+  state.SetLabel(std::to_string(pool.threads()) + " threads");
+}
+
+void retract_and_cost(benchmark::State& state, const std::string& file) {
+  Fixture& f = fixture(file);
+  const ThreadPool pool(static_cast<int>(state.range(0)));
+  const std::vector<double> x(f.ne->dim(), 1e-6);
+  for (auto _ : state) {
+    f.ne->retract(f.problem.values, x.data(), f.candidate, pool);
+    benchmark::DoNotOptimize(f.ne->cost(f.candidate, pool));
+  }
+  state.SetLabel(std::to_string(pool.threads()) + " threads");
+}
+
 const int kRegistered = [] {
   for (const bench::Reference& r : bench::references()) {
     if (!r.speed_goal) continue;
@@ -84,6 +104,13 @@ const int kRegistered = [] {
         ->Arg(2)
         ->Unit(benchmark::kMillisecond)
         ->MinTime(1.0);
+    for (auto* fn : {linearize, retract_and_cost})
+      benchmark::RegisterBenchmark(((fn == linearize ? "linearize/" : "retract_and_cost/") + r.file).c_str(), fn,
+                                   r.file)
+          ->Arg(1)
+          ->Arg(2)
+          ->Unit(benchmark::kMillisecond)
+          ->MinTime(0.5);
   }
   return 0;
 }();

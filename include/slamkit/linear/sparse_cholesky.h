@@ -66,7 +66,7 @@ class SparseCholesky {
   virtual const CholeskyStats& stats() const = 0;
 };
 
-/// kAuto: AMD, and for large factorizations (≥ 1e6 unit-block flops, i.e. ≈ 2e8 for 6×6
+/// kAuto: AMD, and for large factorizations (≥ 1e8 unit-block flops, i.e. ≈ 2e10 for 6×6
 /// blocks) also METIS and NESDIS, keeping the one with the fewest flops. The result is
 /// postordered along its elimination tree (same fill; subtrees contiguous), so a matrix
 /// stored in this order is factorized as is.
