@@ -8,15 +8,12 @@
 #include "slamkit/eval/eval_plots.h"
 #include "slamkit/eval/plot.h"
 #include "slamkit/eval/svg.h"
+#include "testing/text.h"
 
 namespace slamkit {
 namespace {
 
-std::size_t count(const std::string& s, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
-  return n;
-}
+constexpr auto* count = &slamkit::testing::count_occurrences;
 
 /// Every opened element is closed (self-closing or by its end tag), in order.
 ::testing::AssertionResult well_formed(const std::string& svg) {

@@ -9,15 +9,12 @@
 
 #include "slamkit/core/error.h"
 #include "slamkit/eval/run_json.h"
+#include "testing/text.h"
 
 namespace slamkit {
 namespace {
 
-std::size_t count(const std::string& s, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
-  return n;
-}
+constexpr auto* count = &slamkit::testing::count_occurrences;
 
 nlohmann::json eval_doc(MetricKind kind, const std::string& label, double noise,
                         PoseRelation relation = PoseRelation::kTranslation) {
