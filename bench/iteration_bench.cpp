@@ -4,6 +4,7 @@
 //   iteration_bench --benchmark_out=bench/results/iteration.json --benchmark_out_format=json
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 
@@ -48,11 +49,16 @@ void bare_cholmod(benchmark::State& state, const std::string& file) {
   Fixture& f = fixture(file);
   std::vector<double> x(f.ne->dim());
   const Eigen::VectorXd b = -f.ne->gradient();
+  using Clock = std::chrono::steady_clock;
+  double t_factorize = 0;
   for (auto _ : state) {
+    const auto t0 = Clock::now();
     f.chol->factorize(f.ne->hessian());
+    t_factorize += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     f.chol->solve(b.data(), x.data());
     benchmark::DoNotOptimize(x.data());
   }
+  state.counters["factorize_ms"] = t_factorize / static_cast<double>(state.iterations());
   state.counters["nnz_L"] = f.chol->stats().factor_nnz;
   state.SetLabel(f.chol->stats().ordering);
 }
@@ -61,14 +67,35 @@ void iteration(benchmark::State& state, const std::string& file) {
   Fixture& f = fixture(file);
   const ThreadPool pool(static_cast<int>(state.range(0)));
   std::vector<double> x(f.ne->dim());
+  Eigen::VectorXd b(f.ne->dim());
+  // Per-phase wall time (ms per iteration) as counters: where an iteration's time goes.
+  using Clock = std::chrono::steady_clock;
+  double t_linearize = 0, t_factorize = 0, t_solve = 0, t_retract_cost = 0;
+  const auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
   for (auto _ : state) {
+    const auto t0 = Clock::now();
     f.ne->linearize(f.problem.values, pool);
+    const auto t1 = Clock::now();
     f.chol->factorize(f.ne->hessian());
-    const Eigen::VectorXd b = -f.ne->gradient();
+    const auto t2 = Clock::now();
+    b = -f.ne->gradient();
     f.chol->solve(b.data(), x.data());
+    const auto t3 = Clock::now();
     f.ne->retract(f.problem.values, x.data(), f.candidate, pool);
     benchmark::DoNotOptimize(f.ne->cost(f.candidate, pool));
+    const auto t4 = Clock::now();
+    t_linearize += ms(t0, t1);
+    t_factorize += ms(t1, t2);
+    t_solve += ms(t2, t3);
+    t_retract_cost += ms(t3, t4);
   }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["linearize_ms"] = t_linearize / n;
+  state.counters["factorize_ms"] = t_factorize / n;
+  state.counters["solve_ms"] = t_solve / n;
+  state.counters["retract_cost_ms"] = t_retract_cost / n;
   state.SetLabel(std::to_string(pool.threads()) + " threads");
 }
 
