@@ -63,6 +63,7 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   s.blas_threads = options_.blas_threads > 0 ? options_.blas_threads : pool.threads();
   const BlasRuntime blas = blas_runtime();
   s.blas = blas.core.empty() ? blas.vendor : blas.vendor + " " + blas.core;
+  s.blas_better_core = better_openblas_core();
   auto chol = make_sparse_cholesky(options_.linear_solver, options_.ordering, s.blas_threads);
   s.linear_solver_is_fallback = chol->is_fallback();
   s.time_setup_s = now_s() - t_start;

@@ -78,6 +78,9 @@ std::string Summary::report() const {
   if (linear_solver_is_fallback) os << "  WARNING          the fallback linear solver was used: expect slow solves\n";
   os << format("  threads          %d linearization (%s), %d BLAS (%s)\n", threads, thread_backend.c_str(),
                blas_threads, blas.c_str());
+  if (!blas_better_core.empty())
+    os << "  WARNING          OpenBLAS runs generic kernels on a CPU that supports " << blas_better_core
+       << ": OPENBLAS_CORETYPE=" << blas_better_core << " factorizes about 2x faster\n";
   os << format("  cost (chi2)      initial %.10g -> final %.10g (%.3g%% of initial)\n", initial_cost, final_cost,
                initial_cost > 0 ? 100.0 * final_cost / initial_cost : 0.0);
   os << format("  iterations       %d (%d accepted), %d linear solves\n", iterations, accepted_steps, linear_solves);
@@ -105,6 +108,7 @@ std::string Summary::to_json() const {
   j["threads"] = threads;
   j["blas_threads"] = blas_threads;
   j["blas"] = blas;
+  j["blas_better_core"] = blas_better_core;
   j["thread_backend"] = thread_backend;
   j["num_variables"] = num_variables;
   j["num_fixed"] = num_fixed;

@@ -22,6 +22,23 @@ assert j["final_chi2"] < j["initial_chi2"] and j["solver"] == "gn" and j["init"]
 PY
 grep -q "termination" "$work/out.txt" || fail "no summary printed"
 
+# 1b. BLAS kernels: the CLI never runs OpenBLAS's generic fallback when the CPU supports better
+#     (it restarts itself with OPENBLAS_CORETYPE); a forced generic core type is respected and
+#     reported with the better one.
+"$slamkit" optimize sim:manhattan --json "$work/blas.json" -q >/dev/null 2>&1 || fail "sim:manhattan (blas) failed"
+OPENBLAS_CORETYPE=Prescott "$slamkit" optimize sim:manhattan --json "$work/forced.json" -q >/dev/null 2>&1 ||
+  fail "sim:manhattan with OPENBLAS_CORETYPE=Prescott failed"
+python3 - "$work/blas.json" "$work/forced.json" <<'PY' || fail "BLAS kernel selection"
+import json, sys
+auto, forced = (json.load(open(p)) for p in sys.argv[1:3])
+assert auto["blas_better_core"] == "", auto["blas"]
+if forced["blas"].startswith("OpenBLAS"):
+    assert forced["blas"] == "OpenBLAS Prescott", forced["blas"]
+    flags = open("/proc/cpuinfo").read()
+    if " avx2 " in flags and " fma " in flags:
+        assert forced["blas_better_core"] in ("Haswell", "SkylakeX"), forced
+PY
+
 # 2. Errors: non-zero exit, message names the problem.
 "$slamkit" optimize "$work/missing.g2o" >"$work/err.txt" 2>&1 && fail "missing file accepted"
 grep -q "missing.g2o" "$work/err.txt" || fail "missing-file message does not name the file"

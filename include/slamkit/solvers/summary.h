@@ -45,6 +45,7 @@ struct Summary {
   int threads = 1;       ///< linearization threads
   int blas_threads = 1;  ///< BLAS threads in the factorization
   std::string blas;      ///< the BLAS and its kernel set, e.g. "OpenBLAS SkylakeX"
+  std::string blas_better_core;  ///< non-empty: OpenBLAS runs generic kernels; this set would be faster
   std::string thread_backend;
 
   int num_variables = 0, num_fixed = 0, num_factors = 0, num_residuals = 0, tangent_dim = 0;
