@@ -7,8 +7,6 @@
 //   ceres_peer [--repeat 3] [--only SUBSTRING] [--out bench/results/ceres_peer.json]
 #include <ceres/ceres.h>
 
-#include <dlfcn.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -138,9 +136,8 @@ int main(int argc, char** argv) {
   reexec_with_better_blas_core(argv);  // Ceres' CHOLMOD runs on the same BLAS kernels as slamkit
   // Ceres calls the same CHOLMOD, whose OpenMP regions use 4 threads whatever OMP_NUM_THREADS
   // says; slamkit makes them serial around its factorizations (1 BLAS thread). Give Ceres the
-  // same: inactive OpenMP regions on the main thread, where both solve.
-  if (auto set_levels = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels")))
-    set_levels(0);
+  // same for the whole run, on the main thread where both solve.
+  const SerialOpenMpScope serial_openmp;
   int repeat = 3;
   std::string only, out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/ceres_peer.json";
   for (int i = 1; i + 1 < argc; i += 2) {

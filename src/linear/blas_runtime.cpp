@@ -1,5 +1,5 @@
-// Run-time view of OpenBLAS (see blas_runtime.h). Every OpenBLAS symbol is looked up with
-// dlsym, so this compiles and runs against any BLAS.
+// Run-time view and control of OpenBLAS and OpenMP (see blas_runtime.h). Their symbols are
+// looked up once with dlsym, so this compiles and runs against any BLAS, with or without OpenMP.
 #include "slamkit/linear/blas_runtime.h"
 
 #include <dlfcn.h>
@@ -25,22 +25,53 @@ bool is_generic_core(const std::string& core) {
   return std::any_of(std::begin(kGeneric), std::end(kGeneric), [&](const char* g) { return c == g; });
 }
 
+template <class F>
+F lookup(const char* name) {
+  return reinterpret_cast<F>(dlsym(RTLD_DEFAULT, name));
+}
+
+struct Symbols {
+  char* (*openblas_get_corename)() = lookup<char* (*)()>("openblas_get_corename");
+  char* (*openblas_get_config)() = lookup<char* (*)()>("openblas_get_config");
+  void (*openblas_set_num_threads)(int) = lookup<void (*)(int)>("openblas_set_num_threads");
+  int (*omp_get_max_active_levels)() = lookup<int (*)()>("omp_get_max_active_levels");
+  void (*omp_set_max_active_levels)(int) = lookup<void (*)(int)>("omp_set_max_active_levels");
+};
+
+const Symbols& symbols() {
+  static const Symbols s;
+  return s;
+}
+
 }  // namespace
 
 BlasRuntime blas_runtime() {
   BlasRuntime r;
-  using GetString = char* (*)();
-  auto corename = reinterpret_cast<GetString>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
-  auto config = reinterpret_cast<GetString>(dlsym(RTLD_DEFAULT, "openblas_get_config"));
-  if (!corename) {
+  const Symbols& s = symbols();
+  if (!s.openblas_get_corename) {
     r.vendor = "unknown";
     return r;
   }
   r.vendor = "OpenBLAS";
-  if (const char* c = corename()) r.core = c;
-  if (config)
-    if (const char* c = config()) r.config = c;
+  if (const char* c = s.openblas_get_corename()) r.core = c;
+  if (s.openblas_get_config)
+    if (const char* c = s.openblas_get_config()) r.config = c;
   return r;
+}
+
+void set_blas_threads(int threads) {
+  if (threads > 0 && symbols().openblas_set_num_threads) symbols().openblas_set_num_threads(threads);
+}
+
+SerialOpenMpScope::SerialOpenMpScope(bool active) {
+  const Symbols& s = symbols();
+  if (!active || !s.omp_get_max_active_levels || !s.omp_set_max_active_levels) return;
+  previous_ = s.omp_get_max_active_levels();
+  s.omp_set_max_active_levels(0);
+}
+
+SerialOpenMpScope::~SerialOpenMpScope() {
+  if (previous_ >= 0) symbols().omp_set_max_active_levels(previous_);
 }
 
 std::string better_openblas_core() {

@@ -3,7 +3,6 @@
 // triangular, which is the form CHOLMOD's supernodal factorization consumes without copying
 // or permuting it. Numeric factorizations reuse one symbolic analysis.
 #include <cholmod.h>
-#include <dlfcn.h>
 
 #include <chrono>
 #include <cstring>
@@ -11,6 +10,7 @@
 #include <string>
 
 #include "slamkit/core/error.h"
+#include "slamkit/linear/blas_runtime.h"
 #include "sparse_cholesky_backends.h"
 
 namespace slamkit {
@@ -19,43 +19,6 @@ namespace {
 double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
-
-// OpenBLAS's thread count, if the BLAS behind libblas.so.3 is OpenBLAS.
-void set_blas_threads(int threads) {
-  if (threads <= 0) return;
-  using SetThreads = void (*)(int);
-  if (auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(threads);
-}
-
-// Debian's CHOLMOD 3 runs parts of the supernodal factorization in OpenMP regions of a fixed
-// CHOLMOD_OMP_NUM_THREADS = 4 threads, whatever OMP_NUM_THREADS says. On a 2-core machine that
-// oversubscribes and spends most of the factorization waking threads (sphere2500: 200 ms instead
-// of 45 ms per factorization). When the factorization is meant to be single-threaded, this guard
-// makes the calling thread's OpenMP regions inactive (max-active-levels 0, a per-task ICV since
-// OpenMP 5, so other threads of the program keep theirs) and restores the setting afterwards.
-class SerialOpenMpGuard {
- public:
-  explicit SerialOpenMpGuard(bool active) {
-    if (!active) return;
-    using Get = int (*)();
-    get_ = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
-    set_ = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
-    if (!get_ || !set_) return;
-    previous_ = get_();
-    set_(0);
-  }
-  ~SerialOpenMpGuard() {
-    if (previous_ >= 0) set_(previous_);
-  }
-  SerialOpenMpGuard(const SerialOpenMpGuard&) = delete;
-  SerialOpenMpGuard& operator=(const SerialOpenMpGuard&) = delete;
-
- private:
-  using Set = void (*)(int);
-  int (*get_)() = nullptr;
-  Set set_ = nullptr;
-  int previous_ = -1;
-};
 
 cholmod_sparse wrap_lower(int n, const std::vector<int>& col_ptr, const std::vector<int>& rows, double* values) {
   cholmod_sparse A;
@@ -152,7 +115,10 @@ class CholmodCholesky final : public SparseCholesky {
   bool factorize(const BlockSparseMatrix& A) override {
     if (!L_ || A.rows() != n_) throw std::logic_error("SparseCholesky::factorize before analyze");
     cholmod_sparse S = wrap_lower(n_, A.col_ptr(), A.row_index(), const_cast<double*>(A.values().data()));
-    SerialOpenMpGuard serial(serial_factorization_);
+    // Debian's CHOLMOD 3 runs OpenMP regions of a fixed 4 threads (CHOLMOD_OMP_NUM_THREADS)
+    // whatever OMP_NUM_THREADS says: on 2 cores that costs more than it saves (sphere2500:
+    // 200 ms instead of 45 ms per factorization). A single-threaded factorization stays one.
+    SerialOpenMpScope serial(serial_factorization_);
     const int ok = cholmod_factorize(&S, L_, &c_);
     return ok && c_.status == CHOLMOD_OK && L_->minor == L_->n;
   }

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <dlfcn.h>
+
 #include <cstdlib>
 #include <string>
 
@@ -38,12 +40,22 @@ TEST(BlasRuntime, NamesTheBetterKernelsForAGenericFallback) {
   EXPECT_EQ(better_openblas_core(), expected);
 }
 
-TEST(BlasRuntime, ReexecRespectsAnExplicitCoreType) {
-  // OPENBLAS_CORETYPE is set: the call must return instead of restarting the test binary.
-  char arg0[] = "blas_runtime_test";
-  char* argv[] = {arg0, nullptr};
-  reexec_with_better_blas_core(argv);
-  SUCCEED();
+TEST(SerialOpenMpScope, SwitchesParallelRegionsOffAndRestores) {
+  ASSERT_TRUE(kLinksCholesky);
+  auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+  if (!get) GTEST_SKIP() << "no OpenMP runtime in this process (CHOLMOD built without OpenMP)";
+  const int before = get();
+  ASSERT_GT(before, 0);
+  {
+    const SerialOpenMpScope serial;
+    EXPECT_EQ(get(), 0);
+    {
+      const SerialOpenMpScope inactive(false);
+      EXPECT_EQ(get(), 0);
+    }
+    EXPECT_EQ(get(), 0);
+  }
+  EXPECT_EQ(get(), before);
 }
 
 }  // namespace

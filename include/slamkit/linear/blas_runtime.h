@@ -22,6 +22,23 @@ BlasRuntime blas_runtime();
 /// (e.g. "SkylakeX" on an AVX-512 CPU it did not recognise); "" when nothing is to be gained.
 std::string better_openblas_core();
 
+/// OpenBLAS's thread count; no effect with another BLAS or when threads ≤ 0.
+void set_blas_threads(int threads);
+
+/// While alive (and active), OpenMP parallel regions started from the calling thread run with
+/// one thread: max-active-levels 0, a per-task ICV since OpenMP 5, so other threads of the
+/// program keep their setting. Restored on destruction. No effect without an OpenMP runtime.
+class SerialOpenMpScope {
+ public:
+  explicit SerialOpenMpScope(bool active = true);
+  ~SerialOpenMpScope();
+  SerialOpenMpScope(const SerialOpenMpScope&) = delete;
+  SerialOpenMpScope& operator=(const SerialOpenMpScope&) = delete;
+
+ private:
+  int previous_ = -1;  ///< the level to restore, -1 when nothing was changed
+};
+
 /// For programs (the CLI, the benchmarks): when better_openblas_core() names a kernel set and
 /// neither OPENBLAS_CORETYPE nor SLAMKIT_KEEP_BLAS_CORE is set, re-executes the running program
 /// with OPENBLAS_CORETYPE set to it. Returns (without effect) when nothing is to be done or
