@@ -2,8 +2,10 @@
 // (best known chi2, fastest peer end-to-end time, one bare CHOLMOD factorize+solve).
 #pragma once
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -42,6 +44,24 @@ inline const std::vector<Reference>& references() {
       {"3d/derived/cubicle_psd.g2o", 2379.91, 2379.91 * (1 + 1e-4), 1.56, "GTSAM chordal + GN", 131, true},
   };
   return r;
+}
+
+/// Parses "--name value" pairs into the given options (each holds its default). Prints the
+/// usage and returns false on --help, an unknown option or a missing value: a tool that was
+/// asked for help must not run (and overwrite committed results).
+inline bool parse_options(int argc, char** argv, const char* usage, const std::map<std::string, std::string*>& opts) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto it = opts.find(a);
+    if (a == "--help" || a == "-h" || it == opts.end() || i + 1 >= argc) {
+      if (a != "--help" && a != "-h")
+        std::fprintf(stderr, it == opts.end() ? "unknown option %s\n" : "option %s needs a value\n", a.c_str());
+      std::fprintf(stderr, "usage: %s %s\n", argv[0], usage);
+      return false;
+    }
+    *it->second = argv[++i];
+  }
+  return true;
 }
 
 }  // namespace slamkit::bench

@@ -138,14 +138,11 @@ int main(int argc, char** argv) {
   // says; slamkit makes them serial around its factorizations (1 BLAS thread). Give Ceres the
   // same for the whole run, on the main thread where both solve.
   const SerialOpenMpScope serial_openmp;
-  int repeat = 3;
-  std::string only, out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/ceres_peer.json";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--repeat") repeat = std::stoi(v);
-    else if (a == "--only") only = v;
-    else if (a == "--out") out = v;
-  }
+  std::string repeat_s = "3", only, out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/ceres_peer.json";
+  if (!bench::parse_options(argc, argv, "[--repeat 3] [--only SUBSTRING] [--out FILE]",
+                            {{"--repeat", &repeat_s}, {"--only", &only}, {"--out", &out}}))
+    return 2;
+  const int repeat = std::stoi(repeat_s);
   const auto root = bench::data_root() / "posegraph";
   if (!std::filesystem::exists(root)) {
     std::fprintf(stderr, "SKIPPED: dataset folder not found: %s\n", root.c_str());

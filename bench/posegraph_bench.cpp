@@ -34,20 +34,14 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   reexec_with_better_blas_core(argv);  // same BLAS kernels as the CLI uses
-  int repeat = 5, threads = 0;
-  std::string configs = "default", only, out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/posegraph.json";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--repeat") repeat = std::stoi(v);
-    else if (a == "--configs") configs = v;
-    else if (a == "--only") only = v;
-    else if (a == "--threads") threads = std::stoi(v);
-    else if (a == "--out") out = v;
-    else {
-      std::fprintf(stderr, "unknown option %s\n", a.c_str());
-      return 2;
-    }
-  }
+  std::string repeat_s = "5", threads_s = "0", configs = "default", only,
+              out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/posegraph.json";
+  if (!bench::parse_options(argc, argv,
+                            "[--repeat 5] [--configs default|all] [--only SUBSTRING] [--threads N] [--out FILE]",
+                            {{"--repeat", &repeat_s}, {"--configs", &configs}, {"--only", &only},
+                             {"--threads", &threads_s}, {"--out", &out}}))
+    return 2;
+  const int repeat = std::stoi(repeat_s), threads = std::stoi(threads_s);
   std::vector<Config> cfgs = {{"default (gn, auto init)", Algorithm::kGaussNewton, InitMethod::kAuto}};
   if (configs == "all") {
     for (Algorithm a : {Algorithm::kLevenbergMarquardt, Algorithm::kTrustRegionLM, Algorithm::kDogleg})
