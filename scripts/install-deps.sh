@@ -7,7 +7,7 @@ set -euo pipefail
 
 core=(build-essential cmake ninja-build pkg-config
       libeigen3-dev libsuitesparse-dev libopenblas-dev libmetis-dev
-      libcli11-dev nlohmann-json3-dev libtbb-dev)
+      libcli11-dev nlohmann-json3-dev)
 extra=(libgtest-dev libgmock-dev libbenchmark-dev
        libceres-dev                 # benchmark peer only
        clang libclang-rt-14-dev     # libFuzzer + sanitizers for the fuzz targets
