@@ -20,7 +20,7 @@ struct OptimizeArgs {
   std::string input, output, json, trajectory, config, label;
   std::string solver = "gn", init = "auto", robust, format = "auto", linear_solver = "auto", ordering = "auto";
   int max_iterations = 100, threads = 0, blas_threads = 1;
-  double function_tolerance = 1e-6, gradient_tolerance = 1e-10, parameter_tolerance = 1e-8;
+  double function_tolerance = 1e-5, gradient_tolerance = 1e-10, parameter_tolerance = 1e-8;
   bool robust_loops_only = false, repair_information = false, allow_unknown_tags = false, quiet = false;
 };
 
