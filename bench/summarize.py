@@ -79,7 +79,7 @@ def main():
     w("over each; 1 thread for comparison.\n")
     w("| file | bare, slamkit settings [ms] | bare, CHOLMOD defaults [ms] | issue's figure [ms] | "
       "iteration, 1 thread [ms] | iteration, 2 threads [ms] | ratio to slamkit settings (1 / 2 threads) | "
-      "ratio to CHOLMOD defaults (2 threads) | linearize 1/2 threads [ms] | retract+cost 1/2 [ms] | "
+      "ratio to CHOLMOD defaults (2 threads) | linearize 1/2 threads [ms] | retract+evaluate 1/2 [ms] | "
       "factorize alone / inside the 2-thread iteration [ms] |")
     w("|---|---|---|---|---|---|---|---|---|---|---|")
     issue_ms = {b[key]: b.get("issue_ms", float("nan")) for b in runs}  # from bench_data.h
@@ -96,7 +96,7 @@ def main():
         w(f"| {f} | {bare:.2f} | {defaults:.2f} | {t('bare_cholmod', f, table=issue_ms):g} | {i1:.2f} | {i2:.2f} | "
           f"{i1 / bare:.2f} / {i2 / bare:.2f} | {i2 / defaults:.2f} | "
           f"{t('linearize', f, 1):.2f} / {t('linearize', f, 2):.2f} | "
-          f"{t('retract_and_cost', f, 1):.2f} / {t('retract_and_cost', f, 2):.2f} | "
+          f"{t('retract_and_evaluate', f, 1):.2f} / {t('retract_and_evaluate', f, 2):.2f} | "
           f"{t('bare_cholmod', f, table=factorize):.2f} / {t('iteration', f, 2, table=factorize):.2f} |")
 
     w("\n## slamkit vs Ceres 2.1, same process, same machine\n")

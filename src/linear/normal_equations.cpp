@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "slamkit/core/error.h"
 
@@ -189,21 +190,32 @@ void NormalEquations::assemble_column(int j) {
   }
 }
 
-double NormalEquations::linearize(const Values& x, const ThreadPool& pool) {
+double NormalEquations::evaluate(const Values& x, const ThreadPool& pool) {
   pool.parallel_for(slots_.size(), [&](std::size_t b, std::size_t e) { linearize_factors(x, b, e); });
   double total = 0.0;
   for (double c : factor_cost_) total += c;
-  if (!std::isfinite(total)) return total;
+  evaluated_ = std::isfinite(total);
+  return total;
+}
+
+void NormalEquations::assemble(const ThreadPool& pool) {
+  if (!evaluated_) throw std::logic_error("NormalEquations::assemble without a finite evaluate()");
   pool.parallel_for(
       static_cast<std::size_t>(H_.num_blocks()),
       [&](std::size_t b, std::size_t e) {
         for (std::size_t j = b; j < e; ++j) assemble_column(static_cast<int>(j));
       },
       64);
+}
+
+double NormalEquations::linearize(const Values& x, const ThreadPool& pool) {
+  const double total = evaluate(x, pool);
+  if (std::isfinite(total)) assemble(pool);
   return total;
 }
 
 double NormalEquations::cost(const Values& x, const ThreadPool& pool) {
+  evaluated_ = false;  // the residual buffer no longer matches the Jacobians
   pool.parallel_for(slots_.size(), [&](std::size_t begin, std::size_t end) {
     std::vector<const double*> params(max_arity_);
     for (std::size_t f = begin; f < end; ++f) {

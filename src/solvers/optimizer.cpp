@@ -123,8 +123,10 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
       }
       const double predicted = ctx.model_reduction(step);
       ne.retract(x, step.data(), candidate, pool);
+      // The candidate's residuals and Jacobians (phase 1 of its linearization): gives its cost,
+      // leaves H and g at x for a rejected step, and is assembled if the step is accepted.
       t0 = now_s();
-      const double new_cost = ne.cost(candidate, pool);
+      const double new_cost = ne.evaluate(candidate, pool);
       s.time_cost_s += now_s() - t0;
       const double actual = cost - new_cost;
       double rho = predicted > 0.0 ? actual / predicted : (actual > 0.0 ? 1.0 : -1.0);
@@ -178,7 +180,7 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
           done = true;
         } else {
           t0 = now_s();
-          cost = ne.linearize(x, pool);
+          ne.assemble(pool);  // x is the candidate evaluated above
           s.time_linearize_s += now_s() - t0;
           strategy->new_linearization();
           it.gradient_norm = ne.gradient().lpNorm<Eigen::Infinity>();

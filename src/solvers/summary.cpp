@@ -88,7 +88,7 @@ std::string Summary::report() const {
     os << format("  fallback         Gauss-Newton made no progress for %d steps: continued with LM from the best "
                  "iterate at iteration %d\n",
                  options.gn_patience, fallback_iteration);
-  os << format("  time             %.4f s total: setup %.4f, symbolic analysis %.4f, linearization %.4f, cost %.4f, "
+  os << format("  time             %.4f s total: setup %.4f, symbolic analysis %.4f, linearization %.4f, candidate evaluation %.4f, "
                "linear solves %.4f\n",
                time_total_s, time_setup_s, time_analyze_s, time_linearize_s, time_cost_s, time_linear_solver_s);
   os << "  termination      " << to_string(termination) << (message.empty() ? "" : ": " + message) << "\n";

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <stdexcept>
 
 #include "slamkit/factors/pose_graph_problem.h"
 #include "slamkit/sim/pose_graph_generator.h"
@@ -70,6 +71,34 @@ TEST(NormalEquations, BitIdenticalForAnyThreadCount) {
   EXPECT_EQ(0, std::memcmp(a.hessian().values().data(), b.hessian().values().data(),
                            sizeof(double) * a.hessian().values().size()));
   EXPECT_EQ(0, std::memcmp(a.gradient().data(), b.gradient().data(), sizeof(double) * a.gradient().size()));
+}
+
+TEST(NormalEquations, EvaluateLeavesTheSystemAndAssembleCompletesIt) {
+  PoseGraphProblem p = small_sphere();
+  const ThreadPool pool(2);
+  NormalEquations ne(p.graph, p.values), reference(p.graph, p.values);
+  EXPECT_THROW(ne.assemble(pool), std::logic_error);  // nothing evaluated yet
+  ne.linearize(p.values, pool);
+  const std::vector<double> H_at_x = ne.hessian().values();
+  const Eigen::VectorXd g_at_x = ne.gradient();
+
+  // A candidate: its cost, while H and g stay those of x (a rejected step keeps them).
+  Values candidate = p.values;
+  const Eigen::VectorXd delta = Eigen::VectorXd::Constant(ne.dim(), 0.01);
+  ne.retract(p.values, delta.data(), candidate, pool);
+  const double c = ne.evaluate(candidate, pool);
+  EXPECT_NEAR(c, p.graph.cost(candidate), 1e-12 * c);
+  EXPECT_EQ(ne.hessian().values(), H_at_x);
+  EXPECT_EQ(ne.gradient(), g_at_x);
+
+  // Accepted: assemble() gives exactly what a full linearization at the candidate gives.
+  ne.assemble(pool);
+  EXPECT_EQ(reference.linearize(candidate, ThreadPool(1)), c);
+  EXPECT_EQ(ne.hessian().values(), reference.hessian().values());
+  EXPECT_EQ(ne.gradient(), reference.gradient());
+
+  ne.cost(p.values, pool);  // the residual buffer now belongs to another point
+  EXPECT_THROW(ne.assemble(pool), std::logic_error);
 }
 
 TEST(NormalEquations, RejectsProblemsWithoutFreeVariables) {

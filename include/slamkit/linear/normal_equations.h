@@ -7,8 +7,8 @@
 //
 // The structure (which variables are free, their order, the block pattern of H, where each
 // factor's JᵀJ blocks land in H's storage) is built once. linearize() then runs in two phases:
-//   1. every factor is linearized into its own slot of a Jacobian buffer (parallel);
-//   2. every block column of H sums its contributions in factor order (parallel).
+//   1. evaluate(): every factor is linearized into its own slot of a Jacobian buffer (parallel);
+//   2. assemble(): every block column of H sums its contributions in factor order (parallel).
 // No sum crosses threads, so H, g and the cost are bit-identical for any thread count.
 // Variables that no factor touches are left out of the system (and unchanged).
 #pragma once
@@ -41,7 +41,15 @@ class NormalEquations {
   int block_of_variable(std::size_t values_index) const { return block_of_var_[values_index]; }
 
   /// Fills H and g at x; returns the cost Σ ρ_f, or NaN if some factor is not finite.
+  /// Same as evaluate(x) followed by assemble().
   double linearize(const Values& x, const ThreadPool& pool);
+  /// Phase 1 alone: every factor's residual and Jacobians at x into the buffers; returns the
+  /// cost (NaN if some factor is not finite). H and g keep their values, so an optimizer can
+  /// evaluate a candidate and, if it rejects it, go on with the system at the current point;
+  /// if it accepts it, assemble() completes the linearization at the candidate.
+  double evaluate(const Values& x, const ThreadPool& pool);
+  /// Phase 2 alone: H and g from the last evaluate() (which must have returned a finite cost).
+  void assemble(const ThreadPool& pool);
   /// Cost at x only; NaN if some factor is not finite.
   double cost(const Values& x, const ThreadPool& pool);
   /// Index of the first factor whose cost was not finite in the last linearize()/cost().
@@ -89,6 +97,7 @@ class NormalEquations {
   BlockSparseMatrix H_;
   Eigen::VectorXd g_, diag_;
   std::size_t max_arity_ = 0;
+  bool evaluated_ = false;  // the buffers hold a finite evaluate() that assemble() may use
   std::string ordering_;
 };
 
