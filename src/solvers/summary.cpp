@@ -60,8 +60,9 @@ std::string Summary::progress_header() {
 }
 
 std::string Summary::progress_line(const IterationSummary& it, Algorithm) {
-  return format("%4d %16.9e %11.3e %10.3e %10.3e %9.2e %10.3e %4d %10.4f %10.4f%s", it.iteration, it.cost,
-                it.cost_change, it.gradient_norm, it.step_norm, it.rho, it.damping, it.linear_solves,
+  const std::string gradient = std::isnan(it.gradient_norm) ? "-" : format("%.3e", it.gradient_norm);
+  return format("%4d %16.9e %11.3e %10s %10.3e %9.2e %10.3e %4d %10.4f %10.4f%s", it.iteration, it.cost,
+                it.cost_change, gradient.c_str(), it.step_norm, it.rho, it.damping, it.linear_solves,
                 it.linear_solver_time_s, it.cumulative_time_s, it.accepted ? "" : "  (rejected)");
 }
 

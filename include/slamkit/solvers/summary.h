@@ -3,6 +3,7 @@
 // (keys as in the CLI's --json: initial_chi2, final_chi2, iterations, linear_solves, ...).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,9 @@ struct IterationSummary {
   int iteration = 0;
   double cost = 0.0;         ///< cost after this iteration (chi2 = Σ ρ(‖R r‖²))
   double cost_change = 0.0;  ///< previous cost − cost of the proposed step
-  double gradient_norm = 0.0;  ///< max |g_i| at the current estimate
+  /// max |g_i| at the current estimate; NaN (JSON null, "-" in the progress line) when the
+  /// run stopped before linearizing there (a tolerance met by the last accepted step).
+  double gradient_norm = std::numeric_limits<double>::quiet_NaN();
   double step_norm = 0.0;      ///< ‖δ‖
   double rho = 0.0;            ///< actual / predicted reduction
   double damping = 0.0;        ///< LM λ, trust-region radius (TR-LM: μ; dogleg: Δ), 0 for GN
