@@ -214,21 +214,6 @@ double NormalEquations::linearize(const Values& x, const ThreadPool& pool) {
   return total;
 }
 
-double NormalEquations::cost(const Values& x, const ThreadPool& pool) {
-  evaluated_ = false;  // the residual buffer no longer matches the Jacobians
-  pool.parallel_for(slots_.size(), [&](std::size_t begin, std::size_t end) {
-    std::vector<const double*> params(max_arity_);
-    for (std::size_t f = begin; f < end; ++f) {
-      const FactorSlot& s = slots_[f];
-      for (std::size_t v = 0; v < s.factor->keys().size(); ++v) params[v] = x.params(var_index_[s.first_var + v]);
-      factor_cost_[f] = s.factor->cost(params.data(), residuals_.data() + s.residual_offset);
-    }
-  });
-  double total = 0.0;
-  for (double c : factor_cost_) total += c;
-  return total;
-}
-
 std::ptrdiff_t NormalEquations::first_nonfinite_factor() const {
   for (std::size_t f = 0; f < factor_cost_.size(); ++f)
     if (!std::isfinite(factor_cost_[f])) return static_cast<std::ptrdiff_t>(f);

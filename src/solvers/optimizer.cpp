@@ -127,7 +127,7 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
       // leaves H and g at x for a rejected step, and is assembled if the step is accepted.
       t0 = now_s();
       const double new_cost = ne.evaluate(candidate, pool);
-      s.time_cost_s += now_s() - t0;
+      s.time_evaluate_s += now_s() - t0;
       const double actual = cost - new_cost;
       double rho = predicted > 0.0 ? actual / predicted : (actual > 0.0 ? 1.0 : -1.0);
       if (!std::isfinite(new_cost)) rho = -std::numeric_limits<double>::infinity();

@@ -91,7 +91,7 @@ std::string Summary::report() const {
                  options.gn_patience, fallback_iteration);
   os << format("  time             %.4f s total: setup %.4f, symbolic analysis %.4f, linearization %.4f, candidate evaluation %.4f, "
                "linear solves %.4f\n",
-               time_total_s, time_setup_s, time_analyze_s, time_linearize_s, time_cost_s, time_linear_solver_s);
+               time_total_s, time_setup_s, time_analyze_s, time_linearize_s, time_evaluate_s, time_linear_solver_s);
   os << "  termination      " << to_string(termination) << (message.empty() ? "" : ": " + message) << "\n";
   os << format("  tolerances       function %.1e, gradient %.1e, parameter %.1e, max iterations %d\n",
                options.function_tolerance, options.gradient_tolerance, options.parameter_tolerance,
@@ -131,7 +131,7 @@ std::string Summary::to_json() const {
   j["time_setup_s"] = time_setup_s;
   j["time_analyze_s"] = time_analyze_s;
   j["time_linearize_s"] = time_linearize_s;
-  j["time_cost_s"] = time_cost_s;
+  j["time_evaluate_s"] = time_evaluate_s;
   j["time_linear_solver_s"] = time_linear_solver_s;
   j["options"] = {{"max_iterations", options.max_iterations},
                   {"gn_patience", options.gn_patience},

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "slamkit/factors/pose_graph_problem.h"
@@ -97,7 +99,8 @@ TEST(NormalEquations, EvaluateLeavesTheSystemAndAssembleCompletesIt) {
   EXPECT_EQ(ne.hessian().values(), reference.hessian().values());
   EXPECT_EQ(ne.gradient(), reference.gradient());
 
-  ne.cost(p.values, pool);  // the residual buffer now belongs to another point
+  candidate.params(1)[0] = std::numeric_limits<double>::quiet_NaN();  // a point that does not evaluate
+  EXPECT_TRUE(std::isnan(ne.evaluate(candidate, pool)));
   EXPECT_THROW(ne.assemble(pool), std::logic_error);
 }
 

@@ -50,9 +50,7 @@ class NormalEquations {
   double evaluate(const Values& x, const ThreadPool& pool);
   /// Phase 2 alone: H and g from the last evaluate() (which must have returned a finite cost).
   void assemble(const ThreadPool& pool);
-  /// Cost at x only; NaN if some factor is not finite.
-  double cost(const Values& x, const ThreadPool& pool);
-  /// Index of the first factor whose cost was not finite in the last linearize()/cost().
+  /// Index of the first factor whose cost was not finite in the last evaluate() (or linearize()).
   std::ptrdiff_t first_nonfinite_factor() const;
 
   BlockSparseMatrix& hessian() { return H_; }

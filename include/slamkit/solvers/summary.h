@@ -64,9 +64,9 @@ struct Summary {
   bool success() const;  ///< converged (a tolerance reached) or hit max iterations with finite cost
 
   // time_linearize_s: the first linearization and the assembly of H, g at accepted points;
-  // time_cost_s: evaluating candidates (cost, residuals and Jacobians; NormalEquations::evaluate).
+  // time_evaluate_s: evaluating candidates (cost, residuals and Jacobians; NormalEquations::evaluate).
   double time_total_s = 0.0, time_setup_s = 0.0, time_analyze_s = 0.0, time_linearize_s = 0.0,
-         time_cost_s = 0.0, time_linear_solver_s = 0.0;
+         time_evaluate_s = 0.0, time_linear_solver_s = 0.0;
   std::vector<IterationSummary> trace;  ///< entry 0: the initial state
 
   std::string report() const;
