@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Builds the pose-graph fuzzers (clang, libFuzzer + AddressSanitizer + UBSan, libraries
-# instrumented too) and runs them on a corpus seeded from tests/fuzz/seeds/.
+# Builds the reader fuzzers (clang, libFuzzer + AddressSanitizer + UBSan, libraries
+# instrumented too) and runs them on a corpus seeded from tests/fuzz/seeds/. Each target checks
+# that what reads also writes and reads back to the same values (tests/fuzz/*.h, *.cpp).
 #
 #   scripts/fuzz.sh [TARGET] [SECONDS]
-#     TARGET   g2o | toro | gtsam | all   (default: all, one after the other)
+#     TARGET   g2o | toro | gtsam | traj_tum | traj_euroc | traj_kitti | traj_slamkit | sim_spec |
+#              config | all   (default: all, one after the other)
 #     SECONDS  time per target            (default: 60)
 #
 # The corpus grows in fuzz-corpus/<target>/ (git-ignored); a crash is saved as
@@ -18,11 +20,23 @@ seconds=${2:-60}
 build=${SLAMKIT_FUZZ_BUILD:-$root/build-fuzz}
 jobs=${JOBS:-2}
 
-case "$target" in
-  all) targets=(g2o toro gtsam) ;;
-  g2o | toro | gtsam) targets=("$target") ;;
-  *) echo "usage: $0 [g2o|toro|gtsam|all] [SECONDS]" >&2; exit 2 ;;
-esac
+all_targets=(g2o toro gtsam traj_tum traj_euroc traj_kitti traj_slamkit sim_spec config)
+if [[ "$target" == all ]]; then
+  targets=("${all_targets[@]}")
+elif [[ " ${all_targets[*]} " == *" $target "* ]]; then
+  targets=("$target")
+else
+  echo "usage: $0 [${all_targets[*]// /|}|all] [SECONDS]" >&2; exit 2
+fi
+
+dictionary() {
+  case "$1" in
+    traj_*) echo trajectory.dict ;;
+    sim_spec) echo sim.dict ;;
+    config) echo json.dict ;;
+    *) echo pose_graph.dict ;;
+  esac
+}
 
 if [[ ! -f "$build/CMakeCache.txt" ]]; then
   CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
@@ -38,7 +52,7 @@ for t in "${targets[@]}"; do
   cp -n "$root/tests/fuzz/seeds/$t/"* "$corpus/" 2>/dev/null || true
   echo "== fuzz_$t for ${seconds}s, corpus $corpus"
   "$build/fuzz/fuzz_$t" "$corpus" \
-    -dict="$root/tests/fuzz/pose_graph.dict" -max_len=4096 -max_total_time="$seconds" \
+    -dict="$root/tests/fuzz/$(dictionary "$t")" -max_len=4096 -max_total_time="$seconds" \
     -print_final_stats=1 -artifact_prefix="$root/fuzz-corpus/crash-$t-" 2>&1 | tee "$root/fuzz-corpus/$t.log" \
     | grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^Done|stat::|ERROR|SUMMARY|property|crash-" || true
   if grep -qE "ERROR: |SUMMARY: |fuzz property violated|deadly signal" "$root/fuzz-corpus/$t.log"; then

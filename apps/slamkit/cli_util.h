@@ -2,26 +2,29 @@
 #pragma once
 
 #include <chrono>
-#include <fstream>
+#include <initializer_list>
+#include <iostream>
+#include <utility>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "slamkit/core/error.h"
+#include "slamkit/core/output_file.h"
 #include "slamkit/io/pose_graph_io.h"
 #include "slamkit/sim/pose_graph_generator.h"
 
 namespace slamkit::cli {
 
-/// Writes j (pretty-printed) to path; "-" writes to stdout. Throws InputError if it cannot.
+/// Writes j (pretty-printed) to path atomically; "-" writes to stdout. Throws InputError if it cannot.
 inline void write_json(const std::string& path, const nlohmann::json& j) {
-  if (path == "-") {
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
-  std::ofstream out(path);
-  if (!out) throw InputError(path, 0, "", "cannot write JSON output");
-  out << j.dump(2) << "\n";
-  if (!out) throw InputError(path, 0, "", "error while writing JSON output");
+  write_file_atomically(path, j.dump(2) + "\n", "json");
+}
+
+/// Fails at once, before any work, if one of the output paths (empty: not requested) cannot be
+/// written: a long run must not end in "cannot open for writing".
+inline void check_outputs(std::initializer_list<std::pair<const std::string*, const char*>> outputs) {
+  for (const auto& [path, option] : outputs)
+    if (!path->empty()) check_writable(*path, option);
 }
 
 /// A pose-graph file, or a built-in generated graph named "sim:sphere", "sim:manhattan", ...

@@ -33,6 +33,7 @@ void run_convert(const ConvertOptions& o) {
     if (target == PoseGraphFormat::kAuto)
       throw InputError(o.output, 0, "", "cannot tell the output format from the extension; use --to g2o|toro|gtsam");
   }
+  check_outputs({{&o.output, "output"}});
   PoseGraphReadOptions read;
   read.format = parse_pose_graph_format(o.from);
   read.repair_information = o.repair_information;

@@ -70,6 +70,7 @@ void print_summary(std::ostream& os, const EvalResult& r, const RunSource& src) 
 }
 
 void run_eval(MetricKind kind, const EvalCliOptions& o) {
+  check_outputs({{&o.json, "--json"}, {&o.plot, "--plot"}});
   RunSource src;
   src.est_path = o.est;
   src.ref_path = o.ref;
@@ -100,10 +101,7 @@ void run_eval(MetricKind kind, const EvalCliOptions& o) {
   if (!o.json.empty()) write_json(o.json, j);
   if (!o.plot.empty()) {
     const EvalRunData data = eval_run_from_json(j, o.plot);
-    std::ofstream out(o.plot, std::ios::binary);
-    if (!out) throw InputError(o.plot, 0, "", "cannot write the plot");
-    out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" << eval_figure(data).str();
-    if (!out) throw InputError(o.plot, 0, "", "error while writing the plot");
+    write_file_atomically(o.plot, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + eval_figure(data).str(), "plot");
   }
 }
 

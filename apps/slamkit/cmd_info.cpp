@@ -54,6 +54,7 @@ std::string fixed_digits(double v, int digits) {
 }
 
 void run_info(const InfoOptions& o) {
+  check_outputs({{&o.json, "--json"}});
   PoseGraphReadOptions read;
   read.format = parse_pose_graph_format(o.format);
   read.repair_information = o.repair_information;

@@ -7,6 +7,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "optimize_config.h"
 #include "slamkit/core/pose_graph_error.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/io/pose_graph_io.h"
@@ -18,76 +19,36 @@ namespace {
 
 struct OptimizeArgs {
   std::string input, output, json, trajectory, config, label;
-  std::string solver = "gn", init = "auto", robust, format = "auto", linear_solver = "auto", ordering = "auto";
-  int max_iterations = 100, threads = 0, blas_threads = 1;
-  double function_tolerance = 1e-5, gradient_tolerance = 1e-10, parameter_tolerance = 1e-8;
-  bool robust_loops_only = false, repair_information = false, allow_unknown_tags = false, quiet = false;
+  OptimizeSettings s;  // what --config can set too (optimize_config.h)
+  bool allow_unknown_tags = false, quiet = false;
 };
-
-// Options from a JSON config file; command-line flags given explicitly win.
-void apply_config(const std::string& path, const CLI::App& cmd, OptimizeArgs& a) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open config file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path, 0, "", std::string("not valid JSON: ") + e.what());
-  }
-  auto take = [&](const char* key, const char* flag, auto& field) {
-    if (!j.contains(key) || cmd.count(flag) > 0) return;
-    try {
-      j.at(key).get_to(field);
-    } catch (const nlohmann::json::exception&) {
-      throw InputError(path, 0, key, "has the wrong type");
-    }
-  };
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    static const char* known[] = {"solver", "init", "robust", "robust_loop_closures_only", "max_iterations", "threads",
-                                  "blas_threads", "function_tolerance", "gradient_tolerance", "parameter_tolerance",
-                                  "linear_solver", "ordering", "repair_information", "format"};
-    if (std::find(std::begin(known), std::end(known), it.key()) == std::end(known))
-      throw InputError(path, 0, it.key(), "unknown option");
-  }
-  take("solver", "--solver", a.solver);
-  take("init", "--init", a.init);
-  take("robust", "--robust", a.robust);
-  take("robust_loop_closures_only", "--robust-loop-closures-only", a.robust_loops_only);
-  take("max_iterations", "--max-iterations", a.max_iterations);
-  take("threads", "--threads", a.threads);
-  take("blas_threads", "--blas-threads", a.blas_threads);
-  take("function_tolerance", "--function-tolerance", a.function_tolerance);
-  take("gradient_tolerance", "--gradient-tolerance", a.gradient_tolerance);
-  take("parameter_tolerance", "--parameter-tolerance", a.parameter_tolerance);
-  take("linear_solver", "--linear-solver", a.linear_solver);
-  take("ordering", "--ordering", a.ordering);
-  take("repair_information", "--repair-information", a.repair_information);
-  take("format", "--format", a.format);
-}
 
 PoseGraph load(const OptimizeArgs& a, PoseGraphReadReport* report) {
   PoseGraphReadOptions ro;
-  ro.format = parse_pose_graph_format(a.format);
-  ro.repair_information = a.repair_information;
+  ro.format = parse_pose_graph_format(a.s.format);
+  ro.repair_information = a.s.repair_information;
   ro.unknown_tags_as_warnings = a.allow_unknown_tags;
   return load_pose_graph(a.input, ro, report);
 }
 
 void run(const CLI::App& cmd, OptimizeArgs a) {
-  if (!a.config.empty()) apply_config(a.config, cmd, a);
+  check_outputs({{&a.output, "--output"}, {&a.json, "--json"}, {&a.trajectory, "--trajectory"}});
+  if (!a.config.empty()) read_optimize_config(a.config, a.s, [&cmd](const char* flag) { return cmd.count(flag) > 0; });
+  if (!a.output.empty() && format_from_extension(a.output) == PoseGraphFormat::kAuto)
+    throw InputError(a.output, 0, "--output", "cannot tell the output format from the extension (use .g2o, .graph or .txt)");
   PoseGraphOptimizerOptions o;
-  o.init = parse_init_method(a.init);
-  o.optimizer.algorithm = parse_algorithm(a.solver);
-  o.optimizer.max_iterations = a.max_iterations;
-  o.optimizer.num_threads = a.threads;
-  o.optimizer.blas_threads = a.blas_threads;
-  o.optimizer.function_tolerance = a.function_tolerance;
-  o.optimizer.gradient_tolerance = a.gradient_tolerance;
-  o.optimizer.parameter_tolerance = a.parameter_tolerance;
-  o.optimizer.linear_solver = parse_sparse_backend(a.linear_solver);
-  o.optimizer.ordering = parse_ordering(a.ordering);
-  if (!a.robust.empty()) o.problem.kernel = parse_robust_kernel(a.robust);
-  o.problem.kernel_on_odometry = !a.robust_loops_only;
+  o.init = parse_init_method(a.s.init);
+  o.optimizer.algorithm = parse_algorithm(a.s.solver);
+  o.optimizer.max_iterations = a.s.max_iterations;
+  o.optimizer.num_threads = a.s.threads;
+  o.optimizer.blas_threads = a.s.blas_threads;
+  o.optimizer.function_tolerance = a.s.function_tolerance;
+  o.optimizer.gradient_tolerance = a.s.gradient_tolerance;
+  o.optimizer.parameter_tolerance = a.s.parameter_tolerance;
+  o.optimizer.linear_solver = parse_sparse_backend(a.s.linear_solver);
+  o.optimizer.ordering = parse_ordering(a.s.ordering);
+  if (!a.s.robust.empty()) o.problem.kernel = parse_robust_kernel(a.s.robust);
+  o.problem.kernel_on_odometry = !a.s.robust_loop_closures_only;
 
   const Stopwatch load_clock;
   PoseGraphReadReport report;
@@ -128,7 +89,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
   if (!a.trajectory.empty()) write_trajectory(a.trajectory, to_trajectory(g), TrajectoryFormat::kTum);
   if (!a.json.empty()) {
     nlohmann::json j = nlohmann::json::parse(r.summary.to_json());
-    j["label"] = a.label.empty() ? a.input + " (" + a.solver + ", " + to_string(r.init.used) + ")" : a.label;
+    j["label"] = a.label.empty() ? a.input + " (" + a.s.solver + ", " + to_string(r.init.used) + ")" : a.label;
     j["file"] = a.input;
     j["format"] = g.format;
     j["dimension"] = g.dimension();
@@ -141,7 +102,8 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
     j["optimizer_initial_cost"] = r.summary.initial_cost;
     j["final_cost"] = r.summary.final_cost;
     j["final_chi2"] = r.final_chi2;
-    j["robust"] = a.robust;
+    j["robust"] = a.s.robust;
+    j["config"] = nlohmann::json::parse(optimize_config_to_json(a.s));  // the run's settings, reusable as --config
     j["time_load_s"] = load_time;
     j["time_init_s"] = r.init.time_s;
     j["time_ordering_s"] = r.time_ordering_s;
@@ -164,24 +126,24 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("file", args->input, "Pose-graph file, or a built-in generated graph: sim:sphere, sim:manhattan")
       ->required();
   cmd->add_option("-o,--output", args->output, "Write the optimized graph (format from the extension)");
-  cmd->add_option("--solver", args->solver, "gn | lm | tr-lm | dogleg")->capture_default_str();
-  cmd->add_option("--init", args->init, "none | odometry | spanning-tree | linear | chordal | auto")
+  cmd->add_option("--solver", args->s.solver, "gn | lm | tr-lm | dogleg")->capture_default_str();
+  cmd->add_option("--init", args->s.init, "none | odometry | spanning-tree | linear | chordal | auto")
       ->capture_default_str();
-  cmd->add_option("--max-iterations", args->max_iterations, "Iteration limit")->capture_default_str();
-  cmd->add_option("--robust", args->robust, "Robust kernel on the edges, KERNEL:delta (huber, cauchy, tukey, "
+  cmd->add_option("--max-iterations", args->s.max_iterations, "Iteration limit")->capture_default_str();
+  cmd->add_option("--robust", args->s.robust, "Robust kernel on the edges, KERNEL:delta (huber, cauchy, tukey, "
                                             "geman-mcclure, dcs), e.g. cauchy:1");
-  cmd->add_flag("--robust-loop-closures-only", args->robust_loops_only, "Apply --robust to loop closures only");
-  cmd->add_option("--threads", args->threads, "Linearization threads (0: all cores)")->capture_default_str();
-  cmd->add_option("--blas-threads", args->blas_threads,
+  cmd->add_flag("--robust-loop-closures-only", args->s.robust_loop_closures_only, "Apply --robust to loop closures only");
+  cmd->add_option("--threads", args->s.threads, "Linearization threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--blas-threads", args->s.blas_threads,
                   "BLAS threads in the factorization (1 keeps results bit-identical; 0: = --threads)")
       ->capture_default_str();
-  cmd->add_option("--function-tolerance", args->function_tolerance)->capture_default_str();
-  cmd->add_option("--gradient-tolerance", args->gradient_tolerance)->capture_default_str();
-  cmd->add_option("--parameter-tolerance", args->parameter_tolerance)->capture_default_str();
-  cmd->add_option("--linear-solver", args->linear_solver, "auto | cholmod | eigen")->capture_default_str();
-  cmd->add_option("--ordering", args->ordering, "auto | amd | metis | nesdis | natural")->capture_default_str();
-  cmd->add_option("--format", args->format, "Input format: auto | g2o | toro | gtsam")->capture_default_str();
-  cmd->add_flag("--repair-information", args->repair_information,
+  cmd->add_option("--function-tolerance", args->s.function_tolerance)->capture_default_str();
+  cmd->add_option("--gradient-tolerance", args->s.gradient_tolerance)->capture_default_str();
+  cmd->add_option("--parameter-tolerance", args->s.parameter_tolerance)->capture_default_str();
+  cmd->add_option("--linear-solver", args->s.linear_solver, "auto | cholmod | eigen")->capture_default_str();
+  cmd->add_option("--ordering", args->s.ordering, "auto | amd | metis | nesdis | natural")->capture_default_str();
+  cmd->add_option("--format", args->s.format, "Input format: auto | g2o | toro | gtsam")->capture_default_str();
+  cmd->add_flag("--repair-information", args->s.repair_information,
                 "Project information matrices that are not positive definite to the PSD cone");
   cmd->add_flag("--allow-unknown-tags", args->allow_unknown_tags, "Skip unknown tags with a warning");
   cmd->add_option("--json", args->json, "Write the summary as JSON (- for stdout)");

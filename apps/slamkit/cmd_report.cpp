@@ -5,6 +5,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "slamkit/core/error.h"
 #include "slamkit/eval/report.h"
@@ -20,6 +21,7 @@ struct ReportCliOptions {
 };
 
 void run_report(const ReportCliOptions& o) {
+  check_outputs({{&o.output, "--output"}});
   std::vector<ReportInput> inputs;
   for (const auto& path : o.runs) {
     std::ifstream in(path, std::ios::binary);
@@ -37,11 +39,7 @@ void run_report(const ReportCliOptions& o) {
   options.title = o.title;
   options.generator = std::string("slamkit ") + SLAMKIT_VERSION;
   const std::string html = render_html_report(inputs, options);
-  std::ofstream out(o.output, std::ios::binary);
-  if (!out) throw InputError(o.output, 0, "", "cannot write the report");
-  out << html;
-  out.flush();
-  if (!out) throw InputError(o.output, 0, "", "error while writing the report");
+  write_file_atomically(o.output, html, "--output");
   std::cout << "wrote " << o.output << " (" << inputs.size() << " runs, " << html.size() / 1024 << " KiB)\n";
 }
 

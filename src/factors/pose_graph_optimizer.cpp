@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "slamkit/core/error.h"
 #include "slamkit/core/pose_graph_error.h"
 
 namespace slamkit {
@@ -12,6 +13,9 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOptions& options) {
+  if (g.vertices().empty())
+    throw InputError(g.source, 0, "", g.edges.empty() ? "the graph holds no vertices and no edges: nothing to optimize"
+                                                      : "the graph holds edges but no vertices");
   const auto t_start = std::chrono::steady_clock::now();
   PoseGraphResult r;
   r.input_chi2 = total_chi2(g);

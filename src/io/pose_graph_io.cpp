@@ -10,6 +10,7 @@
 
 #include "pose_graph_format.h"
 #include "slamkit/core/error.h"
+#include "slamkit/core/output_file.h"
 #include "slamkit/io/text_reader.h"
 
 namespace slamkit {
@@ -197,11 +198,7 @@ void write_pose_graph(const PoseGraph& g, const std::string& path, PoseGraphForm
   }
   // Format everything first: an impossible conversion must not leave a partial file behind.
   const std::string text = pose_graph_to_string(g, format, warnings);
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw InputError(path, 0, "", "cannot open for writing");
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  out.close();
-  if (!out) throw InputError(path, 0, "", "error while writing");
+  write_file_atomically(path, text);
 }
 
 }  // namespace slamkit

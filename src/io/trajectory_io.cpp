@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "slamkit/core/error.h"
+#include "slamkit/core/output_file.h"
+#include "pose_graph_format.h"  // io_detail::exact_unit_quaternion
 #include "slamkit/io/text_reader.h"
 
 namespace slamkit {
@@ -80,7 +82,9 @@ SO3 checked_quaternion(const TextReader& r, double w, double x, double y, double
   const double n = q.norm();
   if (std::abs(n - 1.0) > kUnitTolerance)
     r.fail("quaternion", "norm " + fmt(n) + " is not 1 (tolerance " + fmt(kUnitTolerance) + ")");
-  return SO3(q);  // normalizes
+  // An exact-unit quaternion is a fixed point of normalization: written and read back, it
+  // gives the same bits (the round trip the fuzzer checks).
+  return SO3(io_detail::exact_unit_quaternion(q));
 }
 
 void append(Trajectory& traj, const TextReader& r, TrajectorySample s) {
@@ -92,7 +96,7 @@ void append(Trajectory& traj, const TextReader& r, TrajectorySample s) {
 
 /// Stamp of a TUM-like line: seconds, with the exact ns when the text is a plain decimal.
 void read_seconds_stamp(const TextReader& r, TrajectorySample& s) {
-  s.stamp = r.number(0, "timestamp");
+  s.stamp = r.number(0, "timestamp") + 0.0;  // + 0.0 turns −0 into 0: the ns text has no signed zero
   s.stamp_ns = exact_ns(r.field(0));
 }
 
@@ -122,12 +126,34 @@ void expect_one_of(const TextReader& r, std::initializer_list<std::size_t> count
   r.fail("", std::string(what) + " needs " + allowed + " fields, line has " + std::to_string(r.num_fields()));
 }
 
+/// Rows with optional state columns must all have the layout of the first one: a trajectory
+/// either has velocities (biases) for every sample or for none, as the writers write it.
+void expect_same_layout(const TextReader& r, std::size_t* columns) {
+  if (*columns == 0) *columns = r.num_fields();
+  if (r.num_fields() != *columns)
+    r.fail("", "row has " + std::to_string(r.num_fields()) + " fields but the first row had " +
+                   std::to_string(*columns) + ": every row needs the same columns");
+}
+
 bool starts_with(std::string_view s, std::string_view p) { return s.substr(0, p.size()) == p; }
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   return s;
+}
+
+/// Why a metadata key or value cannot be stored in a "# meta KEY=VALUE" line, or nullptr.
+/// Reader and writer share this rule, so whatever reads also writes and reads back the same:
+/// no control characters (the line would break or change), no leading or trailing blanks (the
+/// reader trims them), and a key is non-empty without '='.
+const char* metadata_problem(std::string_view text, bool is_key) {
+  for (const char c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "contains a control character";
+  if (is_key && text.empty()) return "empty key";
+  if (is_key && text.find('=') != std::string_view::npos) return "'=' in the key";
+  if (!text.empty() && (text.front() == ' ' || text.back() == ' ')) return "leading or trailing blanks";
+  return nullptr;
 }
 
 void write_quaternion_xyzw(std::ostream& out, const Eigen::Quaterniond& q) {
@@ -196,12 +222,14 @@ Trajectory read_euroc(std::istream& in, const std::string& source) {
   TextReader r(in, source, opt);
   Trajectory traj;
   bool first = true;
+  std::size_t columns = 0;
   while (r.next_line()) {
     // A header without '#' ("timestamp,p_RS_R_x,...") is accepted on the first line only.
     const bool header = first && !r.field(0).empty() && std::isalpha(static_cast<unsigned char>(r.field(0)[0]));
     first = false;
     if (header) continue;
     expect_one_of(r, {8, 11, 17}, "EuRoC/ASL row (t_ns, p, q_wxyz[, v[, b_w, b_a]])");
+    expect_same_layout(r, &columns);
     TrajectorySample s;
     const std::int64_t ns = r.integer(0, "timestamp");
     s.stamp_ns = ns;
@@ -243,6 +271,7 @@ Trajectory read_slamkit_trajectory(std::istream& in, const std::string& source) 
   TextReader r(in, source, opt);
   Trajectory traj;
   bool seen_header = false;
+  std::size_t columns = 0;
   while (r.next_line()) {
     const std::string_view line = trim(r.line());
     if (!seen_header) {
@@ -254,11 +283,15 @@ Trajectory read_slamkit_trajectory(std::istream& in, const std::string& source) 
       const std::string_view kv = trim(line.substr(std::string_view(kMetaPrefix).size()));
       const std::size_t eq = kv.find('=');
       if (eq == std::string_view::npos || eq == 0) r.fail("meta", "expected '# meta KEY=VALUE'");
-      traj.metadata[std::string(trim(kv.substr(0, eq)))] = std::string(trim(kv.substr(eq + 1)));
+      const std::string_view key = trim(kv.substr(0, eq)), value = trim(kv.substr(eq + 1));
+      if (const char* problem = metadata_problem(key, true)) r.fail("meta", std::string("key: ") + problem);
+      if (const char* problem = metadata_problem(value, false)) r.fail("meta", std::string("value: ") + problem);
+      traj.metadata[std::string(key)] = std::string(value);
       continue;
     }
     if (line.front() == '#') continue;
     expect_one_of(r, {8, 11, 17}, "slamkit pose (t x y z qx qy qz qw[ vx vy vz[ bg ba]])");
+    expect_same_layout(r, &columns);
     TrajectorySample s;
     read_seconds_stamp(r, s);
     read_tum_pose(r, s);
@@ -302,10 +335,12 @@ void write_tum(std::ostream& out, const Trajectory& traj) {
 }
 
 void write_euroc(std::ostream& out, const Trajectory& traj) {
-  const bool state = traj.has_velocities() && traj.has_biases();
+  const bool vel = traj.has_velocities();
+  const bool bias = vel && traj.has_biases();
   out << "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []";
-  if (state)
-    out << ",v_RS_R_x [m s^-1],v_RS_R_y [m s^-1],v_RS_R_z [m s^-1],b_w_RS_S_x [rad s^-1],b_w_RS_S_y [rad s^-1],"
+  if (vel) out << ",v_RS_R_x [m s^-1],v_RS_R_y [m s^-1],v_RS_R_z [m s^-1]";
+  if (bias)
+    out << ",b_w_RS_S_x [rad s^-1],b_w_RS_S_y [rad s^-1],"
            "b_w_RS_S_z [rad s^-1],b_a_RS_S_x [m s^-2],b_a_RS_S_y [m s^-2],b_a_RS_S_z [m s^-2]";
   out << '\n';
   for (const auto& s : traj) {
@@ -314,10 +349,10 @@ void write_euroc(std::ostream& out, const Trajectory& traj) {
     const Eigen::Quaterniond& q = s.T_world_body.rotation().quaternion();
     out << ns << ',' << fmt(t.x()) << ',' << fmt(t.y()) << ',' << fmt(t.z()) << ',' << fmt(q.w()) << ','
         << fmt(q.x()) << ',' << fmt(q.y()) << ',' << fmt(q.z());
-    if (state) {
-      for (const Eigen::Vector3d* v : {&*s.v_world, &s.bias->gyro, &s.bias->accel})
+    if (vel) out << ',' << fmt(s.v_world->x()) << ',' << fmt(s.v_world->y()) << ',' << fmt(s.v_world->z());
+    if (bias)
+      for (const Eigen::Vector3d* v : {&s.bias->gyro, &s.bias->accel})
         out << ',' << fmt(v->x()) << ',' << fmt(v->y()) << ',' << fmt(v->z());
-    }
     out << '\n';
   }
 }
@@ -336,8 +371,9 @@ void write_slamkit_trajectory(std::ostream& out, const Trajectory& traj) {
   const bool bias = vel && traj.has_biases();
   out << kSlamkitHeader << '\n';
   for (const auto& [key, value] : traj.metadata) {
-    if (key.empty() || key.find_first_of("=\n\r") != std::string::npos || value.find_first_of("\n\r") != std::string::npos)
-      throw InputError("", 0, "meta", "metadata key/value not writable: '" + key + "'");
+    const char* problem = metadata_problem(key, true);
+    if (!problem) problem = metadata_problem(value, false);
+    if (problem) throw InputError("", 0, "meta", "metadata '" + key + "' not writable: " + problem);
     out << kMetaPrefix << key << '=' << value << '\n';
   }
   out << "# t x y z qx qy qz qw" << (vel ? " vx vy vz" : "") << (bias ? " bgx bgy bgz bax bay baz" : "") << '\n';
@@ -363,11 +399,9 @@ void write_trajectory(std::ostream& out, const Trajectory& traj, TrajectoryForma
 }
 
 void write_trajectory(const std::string& path, const Trajectory& traj, TrajectoryFormat format) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw InputError(path, 0, "", "cannot open file for writing");
-  write_trajectory(out, traj, format);
-  out.flush();
-  if (!out) throw InputError(path, 0, "", "error while writing");
+  std::ostringstream out;
+  write_trajectory(out, traj, format);  // formats everything first: a failure leaves no file
+  write_file_atomically(path, out.str());
 }
 
 }  // namespace slamkit

@@ -1,5 +1,6 @@
 #include "slamkit/sim/pose_graph_generator.h"
 
+#include <charconv>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -131,6 +132,23 @@ PoseGraph generate_pose_graph(const PoseGraphSimOptions& o, PoseGraph* ground_tr
   throw InputError("", 0, "world", "unknown simulated world '" + o.world + "' (manhattan, sphere)");
 }
 
+namespace {
+
+/// The whole of `value` as a decimal integer in [lo, hi], else InputError naming spec and key.
+long long spec_integer(const std::string& spec, const std::string& key, const std::string& value, long long lo,
+                       long long hi) {
+  long long v = 0;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+  if (value.empty() || ec != std::errc() || end != value.data() + value.size())
+    throw InputError(spec, 0, key, "not an integer: '" + value + "'");
+  if (v < lo || v > hi)
+    throw InputError(spec, 0, key, std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+                                       std::to_string(hi) + "]");
+  return v;
+}
+
+}  // namespace
+
 bool parse_sim_spec(const std::string& spec, PoseGraphSimOptions* options) {
   if (spec.rfind("sim:", 0) != 0) return false;
   std::string rest = spec.substr(4), params;
@@ -138,26 +156,32 @@ bool parse_sim_spec(const std::string& spec, PoseGraphSimOptions* options) {
   if (q != std::string::npos) params = rest.substr(q + 1), rest = rest.substr(0, q);
   PoseGraphSimOptions o;
   o.world = rest;
+  if (o.world != "manhattan" && o.world != "sphere")
+    throw InputError(spec, 0, "world", "unknown simulated world '" + o.world + "' (sim:manhattan, sim:sphere)");
   if (o.world == "sphere") o.translation_sigma = 0.1, o.rotation_sigma = 0.02;
   std::istringstream ps(params);
   std::string kv;
   while (std::getline(ps, kv, '&')) {
     const auto eq = kv.find('=');
     const std::string key = kv.substr(0, eq), value = eq == std::string::npos ? "" : kv.substr(eq + 1);
-    try {
-      if (key == "seed") o.seed = static_cast<std::uint32_t>(std::stoul(value));
-      else if (key == "poses") o.num_poses = std::stoi(value);
-      else if (key == "rings") o.rings = std::stoi(value);
-      else if (key == "per_ring") o.poses_per_ring = std::stoi(value);
-      else throw InputError(spec, 0, key, "unknown parameter (seed, poses, rings, per_ring)");
-    } catch (const std::logic_error&) {
-      throw InputError(spec, 0, key, "not a number: '" + value + "'");
-    }
+    const bool sphere = o.world == "sphere";
+    if (key == "seed") o.seed = static_cast<std::uint32_t>(spec_integer(spec, key, value, 0, 0xffffffffLL));
+    else if (key == "poses" && !sphere) o.num_poses = static_cast<int>(spec_integer(spec, key, value, 2, kMaxSimPoses));
+    else if (key == "rings" && sphere) o.rings = static_cast<int>(spec_integer(spec, key, value, 2, kMaxSimPoses / 3));
+    else if (key == "per_ring" && sphere) o.poses_per_ring = static_cast<int>(spec_integer(spec, key, value, 3, kMaxSimPoses / 2));
+    else throw InputError(spec, 0, key, std::string("unknown parameter for ") + o.world +
+                                            (sphere ? " (seed, rings, per_ring)" : " (seed, poses)"));
   }
-  if (o.world != "manhattan" && o.world != "sphere")
-    throw InputError(spec, 0, "world", "unknown simulated world '" + o.world + "' (sim:manhattan, sim:sphere)");
+  if (static_cast<long long>(o.rings) * o.poses_per_ring > kMaxSimPoses)
+    throw InputError(spec, 0, "rings", "rings × per_ring exceeds " + std::to_string(kMaxSimPoses) + " poses");
   *options = o;
   return true;
+}
+
+std::string to_sim_spec(const PoseGraphSimOptions& o) {
+  std::string spec = "sim:" + o.world + "?seed=" + std::to_string(o.seed);
+  if (o.world == "sphere") return spec + "&rings=" + std::to_string(o.rings) + "&per_ring=" + std::to_string(o.poses_per_ring);
+  return spec + "&poses=" + std::to_string(o.num_poses);
 }
 
 }  // namespace slamkit

@@ -210,6 +210,47 @@ TEST(TrajectoryIo, RoundTripsAreLossless) {
   EXPECT_THROW(render(m, TrajectoryFormat::kSlamkit), InputError);
 }
 
+// Fuzz finding: the reader took control characters inside a metadata key or value, which the
+// writer then refused. Reader and writer now share one rule: what reads, writes and reads back.
+TEST(TrajectoryIo, MetadataThatReadsAlsoWritesAndReadsBack) {
+  using F = TrajectoryFormat;
+  expect_input_error([] { parse("# slamkit trajectory 1\n# meta k\ry=v\n", F::kSlamkit); }, 2, "meta", "control character");
+  expect_input_error([] { parse("# slamkit trajectory 1\n# meta key=a\rb\n", F::kSlamkit); }, 2, "meta", "control character");
+  expect_input_error([] { parse("# slamkit trajectory 1\n# meta key=a\tb\n", F::kSlamkit); }, 2, "meta", "control character");
+  expect_input_error([] { parse("# slamkit trajectory 1\n# meta  =v\n", F::kSlamkit); }, 2, "meta");
+  // A CRLF file still reads: the line's own '\r' is not part of the value.
+  const Trajectory crlf = parse("# slamkit trajectory 1\r\n# meta key = some value \r\n1 0 0 0 0 0 0 1\r\n", F::kSlamkit);
+  EXPECT_EQ(crlf.metadata.at("key"), "some value");
+  const Trajectory again = parse(render(crlf, F::kSlamkit), F::kSlamkit);
+  EXPECT_EQ(again.metadata, crlf.metadata);
+  // The writer refuses exactly what the reader would not give back.
+  for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
+           {"a=b", "v"}, {"", "v"}, {" k", "v"}, {"k", "v "}, {"k", "a\rb"}, {"k\x7f", "v"}}) {
+    Trajectory m = crlf;
+    m.metadata = {{key, value}};
+    EXPECT_THROW(render(m, F::kSlamkit), InputError) << "key '" << key << "' value '" << value << "'";
+  }
+}
+
+// Fuzz findings of the round-trip property (read → write → read gives the same values).
+TEST(TrajectoryIo, RoundTripFuzzFindings) {
+  using F = TrajectoryFormat;
+  // Rows must share one column layout: a velocity on some rows only could not be written back.
+  expect_input_error([] { parse("# slamkit trajectory 1\n0 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1 0.1 0 0\n", F::kSlamkit); },
+                     3, "", "first row had 8");
+  expect_input_error([] { parse("1,0,0,0,1,0,0,0,0,0,0\n2,0,0,0,1,0,0,0\n", F::kEuroc); }, 2, "", "first row had 11");
+  // EuRoC rows with velocity but no biases keep their velocity.
+  const Trajectory v = parse("1,0,0,0,1,0,0,0,0.5,0.25,0\n", F::kEuroc);
+  ASSERT_TRUE(v[0].v_world.has_value());
+  const Trajectory back = parse(render(v, F::kEuroc), F::kEuroc);
+  ASSERT_TRUE(back[0].v_world.has_value());
+  EXPECT_EQ(*back[0].v_world, *v[0].v_world);
+  // A stamp of −0 reads as 0 (its exact-ns text has no sign), so it writes and reads back as 0.
+  const Trajectory z = parse("-0 0 0 0 0 0 0 1\n", F::kTum);
+  EXPECT_FALSE(std::signbit(z[0].stamp));
+  EXPECT_FALSE(std::signbit(parse(render(z, F::kTum), F::kTum)[0].stamp));
+}
+
 TEST(TrajectoryIo, StampsWithoutNanosecondsAreRoundedForEuroc) {
   Trajectory t;
   t.push_back(1.5, SE3());

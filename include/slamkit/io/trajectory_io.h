@@ -9,8 +9,8 @@
 //            and optional state columns: 8, 11 (+ v_world) or 17 (+ v_world, b_g, b_a) fields.
 //
 // Readers are strict: every malformed line throws InputError "FILE:LINE: field 'F': message"
-// (wrong field count, bad number, stamps going back in time, quaternion or rotation far from
-// unit/orthonormal). Quaternions within 1e-2 of unit norm are normalized; KITTI rotations
+// (wrong field count, rows with a different column layout than the first, bad number, stamps
+// going back in time, quaternion or rotation far from unit/orthonormal). Quaternions within 1e-2 of unit norm are normalized; KITTI rotations
 // are projected onto SO(3). Decimal TUM/slamkit stamps with at most 9 fraction digits keep
 // their exact value in ns. Writers print the shortest text that reads back to the same
 // double, and exact ns stamps as "s.nnnnnnnnn", so write → read round trips are lossless.
@@ -43,7 +43,8 @@ Trajectory read_trajectory(const std::string& path, TrajectoryFormat format);
 Trajectory read_trajectory(const std::string& path);  ///< format from detect_trajectory_format()
 
 void write_tum(std::ostream& out, const Trajectory& trajectory);
-/// 17 columns when every sample has velocity and biases, else 8. Stamps without ns are rounded to ns.
+/// 17 columns when every sample has velocity and biases, 11 with velocity only, else 8. Stamps
+/// without ns are rounded to ns.
 void write_euroc(std::ostream& out, const Trajectory& trajectory);
 void write_kitti(std::ostream& out, const Trajectory& trajectory);
 /// 17 columns with velocity and biases, 11 with velocity only, else 8; metadata in the header.

@@ -36,8 +36,16 @@ struct PoseGraphSimOptions {
 /// poses as estimates. Throws InputError on an unknown world or non-positive sizes.
 PoseGraph generate_pose_graph(const PoseGraphSimOptions& options, PoseGraph* ground_truth = nullptr);
 
-/// "sim:manhattan", "sim:sphere" (optionally "sim:sphere?seed=3"): true if `spec` names a
-/// built-in generated graph; fills `options`.
+/// Largest graph a spec may ask for (poses; rings × per_ring on the sphere).
+constexpr long long kMaxSimPoses = 10'000'000;
+
+/// "sim:manhattan", "sim:sphere" (optionally "sim:sphere?seed=3&rings=20"): true if `spec` names
+/// a built-in generated graph; fills `options`. Parameters: seed (0..2^32-1), poses (manhattan
+/// only, 2..kMaxSimPoses), rings (≥ 2) and per_ring (≥ 3) (sphere only); every value a whole
+/// decimal integer. Anything else throws InputError naming the spec and the parameter.
 bool parse_sim_spec(const std::string& spec, PoseGraphSimOptions* options);
+
+/// The spec that parse_sim_spec reads back to the same world, seed and sizes.
+std::string to_sim_spec(const PoseGraphSimOptions& options);
 
 }  // namespace slamkit
