@@ -40,5 +40,32 @@ TEST(PoseGraphGenerator, ParsesSpecs) {
   EXPECT_THROW(parse_sim_spec("sim:sphere?colour=1", &o), InputError);
 }
 
+// Fuzz findings: values must be whole integers in range, parameters must belong to the world,
+// and what parses prints (to_sim_spec) as a spec that parses to the same options.
+TEST(PoseGraphGenerator, SpecsAreStrictAndRoundTrip) {
+  PoseGraphSimOptions o;
+  for (const char* bad : {"sim:manhattan?poses=12abc", "sim:manhattan?poses=", "sim:manhattan?poses=1",
+                          "sim:manhattan?seed=-1", "sim:manhattan?seed=4294967296", "sim:manhattan?rings=41",
+                          "sim:sphere?poses=10", "sim:sphere?rings=5000&per_ring=5000", "sim:manhattan?poses=99999999999"}) {
+    try {
+      parse_sim_spec(bad, &o);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), bad);
+    }
+  }
+  for (const char* good : {"sim:manhattan", "sim:sphere", "sim:manhattan?poses=50&seed=4294967295",
+                           "sim:sphere?per_ring=7&seed=0&rings=3"}) {
+    ASSERT_TRUE(parse_sim_spec(good, &o)) << good;
+    PoseGraphSimOptions again;
+    ASSERT_TRUE(parse_sim_spec(to_sim_spec(o), &again)) << to_sim_spec(o);
+    EXPECT_EQ(again.world, o.world);
+    EXPECT_EQ(again.seed, o.seed);
+    EXPECT_EQ(again.num_poses, o.num_poses);
+    EXPECT_EQ(again.rings, o.rings);
+    EXPECT_EQ(again.poses_per_ring, o.poses_per_ring);
+  }
+}
+
 }  // namespace
 }  // namespace slamkit
