@@ -1,9 +1,12 @@
 #include "slamkit/sim/pose_graph_generator.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <unordered_map>
+#include <utility>
 
 #include "slamkit/core/error.h"
 
@@ -64,11 +67,33 @@ PoseGraph manhattan(const PoseGraphSimOptions& o, PoseGraph* gt) {
   for (int i = 0; i < o.num_poses; ++i) g.add_vertex(pose_vertex(i));
   for (int i = 1; i < o.num_poses; ++i) g.vertex_at(i).has_estimate = false;
   for (int i = 0; i + 1 < o.num_poses; ++i) add_edge2(g, truth, i, i + 1, o, noise);
-  // Loop closures: earlier poses (not the previous few) within loop_radius.
-  for (int j = 0; j < o.num_poses; ++j)
-    for (int i = 0; i + 2 < j; ++i)
+  // Loop closures: earlier poses (not the previous few) within loop_radius, found through a
+  // grid of loop_radius cells (the 3×3 cells around a pose hold every pose within the radius),
+  // so generation is linear in the size. Candidates are visited in increasing i, as a scan
+  // over all earlier poses would, so the random draws and the graph do not depend on the grid.
+  const double cell = o.loop_radius > 0.0 ? o.loop_radius : 1.0;
+  auto cell_of = [&](const Eigen::Vector2d& p) {
+    return std::make_pair(static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell)));
+  };
+  auto cell_key = [](std::int64_t cx, std::int64_t cy) { return (cx * 73856093) ^ (cy * 19349663); };
+  std::unordered_map<std::int64_t, std::vector<int>> grid;
+  std::vector<int> candidates;
+  for (int j = 0; j < o.num_poses; ++j) {
+    const auto [cx, cy] = cell_of(truth[j].translation());
+    candidates.clear();
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const auto it = grid.find(cell_key(cx + dx, cy + dy));
+        if (it == grid.end()) continue;
+        for (int i : it->second)
+          if (i + 2 < j && cell_of(truth[i].translation()) == std::make_pair(cx + dx, cy + dy)) candidates.push_back(i);
+      }
+    std::sort(candidates.begin(), candidates.end());
+    for (int i : candidates)
       if ((truth[i].translation() - truth[j].translation()).norm() < o.loop_radius && u(noise.rng) < o.loop_probability)
         add_edge2(g, truth, i, j, o, noise);
+    grid[cell_key(cx, cy)].push_back(j);
+  }
   complete_estimates_by_odometry(g);  // noisy odometry chain as the initial guess
   if (gt) {
     *gt = g;
