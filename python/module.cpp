@@ -6,6 +6,7 @@
 
 #include "bind_common.h"
 #include "slamkit/core/error.h"
+#include "slamkit/linear/blas_runtime.h"
 
 namespace slamkit::python {
 
@@ -142,13 +143,24 @@ void register_exceptions(py::module_& m) {
 }  // namespace
 }  // namespace slamkit::python
 
-PYBIND11_MODULE(slamkit, m) {
+PYBIND11_MODULE(_slamkit, m) {
   namespace sp = slamkit::python;
   m.doc() =
       "slamkit: back-end SLAM toolkit (Lie groups, factor graphs, pose-graph optimization, trajectory "
       "evaluation) with NumPy in and out. See docs/python.md.";
   m.attr("__version__") = SLAMKIT_VERSION;
   sp::register_exceptions(m);
+  m.def(
+      "blas_runtime",
+      [] {
+        const slamkit::BlasRuntime r = slamkit::blas_runtime();
+        pybind11::dict d;
+        d["vendor"] = r.vendor, d["core"] = r.core, d["config"] = r.config;
+        d["better_core"] = slamkit::better_openblas_core();
+        return d;
+      },
+      "The BLAS CHOLMOD runs on: vendor, core (OpenBLAS kernel set), config, and better_core (non-empty "
+      "when OpenBLAS runs generic kernels although this CPU could run that set).");
   sp::init_geometry(m);
   sp::init_core(m);
   sp::init_pose_graph(m);
