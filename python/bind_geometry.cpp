@@ -25,6 +25,12 @@ typename G::Tangent tangent_arg(const py::handle& v) {
   return to_vector(v, G::kDim, "tangent vector");
 }
 
+// Jacobians as 2-D arrays, also when they are 1×1 or d×1 (SO2).
+template <class M>
+Eigen::MatrixXd jac(const M& J) {
+  return J;
+}
+
 // Members every Lie group shares (the math is in the C++ headers).
 template <class G>
 void bind_group_common(py::class_<G>& c) {
@@ -35,7 +41,7 @@ void bind_group_common(py::class_<G>& c) {
           [](const py::handle& tau, bool jacobians) -> py::object {
             J Jt;
             const G g = G::exp(tangent_arg<G>(tau), jacobians ? &Jt : nullptr);
-            if (jacobians) return py::make_tuple(g, Jt);
+            if (jacobians) return py::make_tuple(g, jac(Jt));
             return py::cast(g);
           },
           py::arg("tau"), py::arg("jacobians") = false,
@@ -45,7 +51,7 @@ void bind_group_common(py::class_<G>& c) {
           [](const G& g, bool jacobians) -> py::object {
             J Jl;
             const typename G::Tangent t = g.log(jacobians ? &Jl : nullptr);
-            if (jacobians) return py::make_tuple(t, Jl);
+            if (jacobians) return py::make_tuple(t, jac(Jl));
             return py::cast(t);
           },
           py::arg("jacobians") = false, "Log(X) as a tangent vector; with jacobians=True returns (tau, Jr^-1(tau)).")
@@ -54,7 +60,7 @@ void bind_group_common(py::class_<G>& c) {
           [](const G& a, const G& b, bool jacobians) -> py::object {
             J Ja, Jb;
             const G g = a.compose(b, jacobians ? &Ja : nullptr, jacobians ? &Jb : nullptr);
-            if (jacobians) return py::make_tuple(g, Ja, Jb);
+            if (jacobians) return py::make_tuple(g, jac(Ja), jac(Jb));
             return py::cast(g);
           },
           py::arg("other"), py::arg("jacobians") = false,
@@ -64,7 +70,7 @@ void bind_group_common(py::class_<G>& c) {
           [](const G& a, bool jacobians) -> py::object {
             J Ja;
             const G g = a.inverse(jacobians ? &Ja : nullptr);
-            if (jacobians) return py::make_tuple(g, Ja);
+            if (jacobians) return py::make_tuple(g, jac(Ja));
             return py::cast(g);
           },
           py::arg("jacobians") = false, "self^-1; with jacobians=True returns (X, J_self).")
@@ -73,7 +79,7 @@ void bind_group_common(py::class_<G>& c) {
           [](const G& a, const G& b, bool jacobians) -> py::object {
             J Ja, Jb;
             const G g = a.between(b, jacobians ? &Ja : nullptr, jacobians ? &Jb : nullptr);
-            if (jacobians) return py::make_tuple(g, Ja, Jb);
+            if (jacobians) return py::make_tuple(g, jac(Ja), jac(Jb));
             return py::cast(g);
           },
           py::arg("other"), py::arg("jacobians") = false,
@@ -83,7 +89,7 @@ void bind_group_common(py::class_<G>& c) {
           [](const G& a, const py::handle& d, bool jacobians) -> py::object {
             J Ja, Jd;
             const G g = a.plus(tangent_arg<G>(d), jacobians ? &Ja : nullptr, jacobians ? &Jd : nullptr);
-            if (jacobians) return py::make_tuple(g, Ja, Jd);
+            if (jacobians) return py::make_tuple(g, jac(Ja), jac(Jd));
             return py::cast(g);
           },
           py::arg("delta"), py::arg("jacobians") = false,
@@ -93,23 +99,23 @@ void bind_group_common(py::class_<G>& c) {
           [](const G& a, const G& b, bool jacobians) -> py::object {
             J Ja, Jb;
             const typename G::Tangent t = a.minus(b, jacobians ? &Ja : nullptr, jacobians ? &Jb : nullptr);
-            if (jacobians) return py::make_tuple(t, Ja, Jb);
+            if (jacobians) return py::make_tuple(t, jac(Ja), jac(Jb));
             return py::cast(t);
           },
           py::arg("other"), py::arg("jacobians") = false,
           "self ⊟ other = Log(other^-1 * self); with jacobians=True returns (tau, J_self, J_other).")
-      .def("adjoint", &G::adjoint, "Adjoint matrix Ad(X): X Exp(tau) = Exp(Ad tau) X.")
+      .def("adjoint", [](const G& g) { return jac(g.adjoint()); }, "Adjoint matrix Ad(X): X Exp(tau) = Exp(Ad tau) X.")
       .def("matrix", &G::matrix, "Homogeneous (or rotation) matrix.")
       .def("__mul__", [](const G& a, const G& b) { return a * b; }, py::is_operator())
-      .def_static("right_jacobian", [](const py::handle& t) { return G::right_jacobian(tangent_arg<G>(t)); },
+      .def_static("right_jacobian", [](const py::handle& t) { return jac(G::right_jacobian(tangent_arg<G>(t))); },
                   py::arg("tau"), "Jr(tau).")
-      .def_static("left_jacobian", [](const py::handle& t) { return G::left_jacobian(tangent_arg<G>(t)); },
+      .def_static("left_jacobian", [](const py::handle& t) { return jac(G::left_jacobian(tangent_arg<G>(t))); },
                   py::arg("tau"), "Jl(tau) = Jr(-tau).")
       .def_static("right_jacobian_inverse",
-                  [](const py::handle& t) { return G::right_jacobian_inverse(tangent_arg<G>(t)); }, py::arg("tau"),
+                  [](const py::handle& t) { return jac(G::right_jacobian_inverse(tangent_arg<G>(t))); }, py::arg("tau"),
                   "Jr(tau)^-1.")
       .def_static("left_jacobian_inverse",
-                  [](const py::handle& t) { return G::left_jacobian_inverse(tangent_arg<G>(t)); }, py::arg("tau"),
+                  [](const py::handle& t) { return jac(G::left_jacobian_inverse(tangent_arg<G>(t))); }, py::arg("tau"),
                   "Jl(tau)^-1.")
       .def_readonly_static("dim", &G::kDim, "Tangent dimension.")
       .def(py::pickle(
@@ -142,7 +148,7 @@ void bind_group_common(py::class_<G>& c) {
         Eigen::Matrix<double, Vec::RowsAtCompileTime, G::kDim> Jg;
         Eigen::Matrix<double, Vec::RowsAtCompileTime, Vec::RowsAtCompileTime> Jp;
         const Vec out = g.act(v, &Jg, &Jp);
-        return py::make_tuple(out, Jg, Jp);
+        return py::make_tuple(out, jac(Jg), jac(Jp));
       },
       py::arg("points"), py::arg("jacobians") = false,
       "Transforms one point (returns the point; with jacobians=True (p', J_self, J_point)) or an N×d array of "
@@ -331,7 +337,7 @@ void init_geometry(py::module_& m) {
       [](const py::handle& src, const py::handle& dst, bool with_scale) {
         const RowMatrixXd a = to_matrix(src, -1, 3, "src"), b = to_matrix(dst, -1, 3, "dst");
         if (a.rows() != b.rows()) throw py::value_error("umeyama: src and dst have different numbers of points");
-        return umeyama(a.transpose(), b.transpose(), with_scale);
+        return slamkit::umeyama(Eigen::Matrix3Xd(a.transpose()), Eigen::Matrix3Xd(b.transpose()), with_scale);
       },
       py::arg("src"), py::arg("dst"), py::arg("with_scale") = false,
       "Least-squares similarity (with_scale) or rigid motion taking the N×3 points src onto dst (Umeyama 1991).");
@@ -340,7 +346,7 @@ void init_geometry(py::module_& m) {
       [](const py::handle& src, const py::handle& dst) {
         const RowMatrixXd a = to_matrix(src, -1, 3, "src"), b = to_matrix(dst, -1, 3, "dst");
         if (a.rows() != b.rows()) throw py::value_error("umeyama_yaw: src and dst have different numbers of points");
-        return umeyama_yaw(a.transpose(), b.transpose());
+        return slamkit::umeyama_yaw(Eigen::Matrix3Xd(a.transpose()), Eigen::Matrix3Xd(b.transpose()));
       },
       py::arg("src"), py::arg("dst"), "Rotation about z plus translation (4 DoF) taking src onto dst.");
 }
