@@ -109,6 +109,7 @@ namespace {
 void register_exceptions(py::module_& m) {
   static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
   error.doc() = "Base of the exceptions slamkit raises.";
+  error.attr("__module__") = "slamkit";
   py::tuple input_bases = py::make_tuple(py::handle(PyExc_ValueError), error);
   static py::object input_error = py::reinterpret_steal<py::object>(
       PyErr_NewExceptionWithDoc("slamkit.InputError",
