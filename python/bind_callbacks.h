@@ -19,6 +19,10 @@ std::shared_ptr<py::object> share_python_object(py::object obj);
 /// exception raised by the callback stops the run; it is rethrown by optimize().
 void install_python_callback(OptimizerOptions& o, const py::object& user_callback, bool verbose);
 
+/// ValueError for option values the optimizer cannot work with (NaN or negative tolerances,
+/// absurd thread counts).
+void validate_optimizer_options(const OptimizerOptions& o);
+
 /// Options from keyword arguments (every field of OptimizerOptions; enums as the CLI's strings).
 OptimizerOptions optimizer_options_from_kwargs(const py::kwargs& kwargs);
 

@@ -150,6 +150,8 @@ void init_factors(py::module_& m) {
       [](PoseGraph& g, const std::string& method, const py::object& gauge) {
         const std::vector<std::int64_t> ids =
             gauge.is_none() ? gauge_vertices(g) : gauge.cast<std::vector<std::int64_t>>();
+        for (std::int64_t id : ids) g.vertex(id);  // InputError for an unknown gauge vertex
+        if (ids.empty() && !g.vertices().empty()) throw py::value_error("initialize_pose_graph: empty gauge");
         const InitMethod im = parse_init_method(method);
         py::gil_scoped_release release;
         return initialize_pose_graph(g, im, ids);
@@ -207,6 +209,7 @@ void init_factors(py::module_& m) {
         o.optimizer.linear_solver = parse_sparse_backend(linear_solver);
         o.optimizer.ordering = parse_ordering(ordering);
         o.problem = problem_options(robust, loops_only, se3_error);
+        validate_optimizer_options(o.optimizer);
         install_python_callback(o.optimizer, callback, verbose);
         PoseGraphResult r;
         {

@@ -168,8 +168,10 @@ Eigen::Quaterniond quaternion_xyzw(const py::handle& q) {
   return Eigen::Quaterniond(v(3), v(0), v(1), v(2));
 }
 
+// A 3×3 matrix to be projected to the nearest rotation; a degenerate one (det <= 0) raises.
 Eigen::Matrix3d rotation_matrix_arg(const py::handle& R) {
   const Eigen::Matrix3d M = to_matrix(R, 3, 3, "rotation matrix");
+  if (!(M.determinant() > 1e-9)) throw py::value_error("rotation matrix: determinant is not positive");
   return M;
 }
 
@@ -184,7 +186,12 @@ void init_geometry(py::module_& m) {
              return SO2(angle);
            }),
            py::arg("angle"))
-      .def_static("from_matrix", [](const py::handle& R) { return SO2::from_matrix(to_matrix(R, 2, 2, "matrix")); },
+      .def_static("from_matrix",
+                  [](const py::handle& R) {
+                    const Eigen::Matrix2d M = to_matrix(R, 2, 2, "matrix");
+                    if (!(M.determinant() > 1e-9)) throw py::value_error("rotation matrix: determinant is not positive");
+                    return SO2::from_matrix(M);
+                  },
                   py::arg("matrix"), "From a 2×2 rotation matrix.")
       .def_property_readonly("angle", &SO2::angle)
       .def("__repr__", [](const SO2& r) { return "SO2(angle=" + fmt(r.angle()) + ")"; });
@@ -262,6 +269,7 @@ void init_geometry(py::module_& m) {
             py::array a = py::array::ensure(T);
             const Eigen::Index rows = a && a.ndim() == 2 && a.shape(0) == 3 ? 3 : 4;
             const RowMatrixXd M = to_matrix(T, rows, 4, "matrix");
+            rotation_matrix_arg(py::cast(Eigen::Matrix3d(M.topLeftCorner<3, 3>())));
             return SE3::from_matrix(M.topRows<3>());
           },
           py::arg("matrix"), "From a 4×4 or 3×4 [R | t] matrix (R projected to the nearest rotation).")

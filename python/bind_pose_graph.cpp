@@ -122,6 +122,9 @@ Trajectory trajectory_from_arrays(const py::handle& stamps, const py::handle& po
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) M(i, j) = u(k, i, j);
       require_finite(M, "rotations");
+      // As the KITTI reader: a matrix far from orthonormal is an error, not a rotation.
+      if ((M.transpose() * M - Eigen::Matrix3d::Identity()).norm() > 1e-2 || M.determinant() <= 0.0)
+        throw py::value_error("rotations: matrix " + std::to_string(k) + " is not a rotation");
       R.push_back(M);
     }
   }

@@ -53,6 +53,17 @@ py::dict summary_dict(const Summary& s) {
 
 }  // namespace
 
+void validate_optimizer_options(const OptimizerOptions& o) {
+  const double values[] = {o.function_tolerance, o.gradient_tolerance, o.parameter_tolerance, o.lm_initial_lambda,
+                           o.lm_max_lambda, o.tr_initial_radius, o.tr_increase_threshold, o.tr_decrease_threshold,
+                           o.tr_increase_factor, o.tr_decrease_factor, o.tr_accept_threshold, o.tr_min_radius,
+                           o.dogleg_initial_radius, o.dogleg_accept_threshold, o.dogleg_min_radius};
+  for (double v : values)
+    if (!std::isfinite(v) || v < 0.0) throw py::value_error("optimizer options: tolerances, radii and factors must be finite and >= 0");
+  // More threads than this is a typo, and spawning them would stall the machine.
+  if (o.num_threads > 1024 || o.blas_threads > 1024) throw py::value_error("optimizer options: at most 1024 threads");
+}
+
 OptimizerOptions optimizer_options_from_kwargs(const py::kwargs& kwargs) {
   py::object tmp = py::cast(OptimizerOptions{});
   set_from_kwargs(tmp, kwargs);
@@ -183,6 +194,7 @@ void init_solvers(py::module_& m) {
           [](const Optimizer& opt, const FactorGraph& graph, Values& values, const py::object& callback,
              bool verbose) {
             OptimizerOptions o = opt.options();
+            validate_optimizer_options(o);
             install_python_callback(o, callback, verbose);
             Summary s;
             {
