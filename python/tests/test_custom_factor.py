@@ -25,13 +25,13 @@ def between_se2_error(z):
     return error
 
 
-def python_copy_of(problem):
+def python_copy_of(problem, kernel=None):
     """The pose-graph problem with every BetweenFactorSE2 replaced by a CustomFactor."""
     graph = sk.FactorGraph()
     for k in range(len(problem.graph)):
         f = problem.graph[k]
         noise = sk.NoiseModel.information(f.noise_model.information_matrix())
-        graph.add(sk.CustomFactor(f.keys, [sk.SE2, "SE2"], noise, between_se2_error(f.measured)))
+        graph.add(sk.CustomFactor(f.keys, [sk.SE2, "SE2"], noise, between_se2_error(f.measured), kernel=kernel))
     return graph
 
 
@@ -58,6 +58,17 @@ def test_python_factor_matches_builtin(problem):
         assert s_python.final_cost < 0.1 * s_python.initial_cost
         keys = [int(k) for k in v_builtin.keys()]
         np.testing.assert_allclose(v_python.se2_array(keys), v_builtin.se2_array(keys), atol=1e-9)
+
+
+def test_python_factor_with_robust_kernel_matches_builtin():
+    g = sk.generate_pose_graph(world="manhattan", num_poses=120, seed=4)
+    robust = sk.build_pose_graph_problem(g, robust="cauchy:1")
+    py_graph = python_copy_of(robust, kernel=sk.CauchyKernel(1.0))
+    assert py_graph[0].robust_kernel.startswith("cauchy")
+    v_b, v_p = robust.values.copy(), robust.values.copy()
+    s_b = sk.Optimizer(algorithm="lm").optimize(robust.graph, v_b)
+    s_p = sk.Optimizer(algorithm="lm").optimize(py_graph, v_p)
+    assert abs(s_p.final_cost - s_b.final_cost) <= 1e-9 * s_b.final_cost and s_p.iterations == s_b.iterations
 
 
 def test_python_factor_on_worker_threads(problem):
