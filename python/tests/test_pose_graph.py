@@ -41,6 +41,24 @@ def test_cli_options_map_to_keywords(tmp_path):
     assert d["solver"] == "lm" and d["init"] == "odometry" and d["kind"] == "optimize"
 
 
+def test_cli_config_file_keys_are_keywords(tmp_path):
+    """Every optimizer key of `slamkit optimize --config` is a keyword of optimize_pose_graph;
+    the load keys (format, repair_information) are keywords of load_pose_graph."""
+    config = {"solver": "lm", "init": "odometry", "robust": "huber:2", "robust_loop_closures_only": True,
+              "max_iterations": 15, "threads": 1, "blas_threads": 1, "function_tolerance": 1e-6,
+              "gradient_tolerance": 1e-10, "parameter_tolerance": 1e-8, "linear_solver": "auto", "ordering": "amd",
+              "repair_information": False, "format": "auto"}
+    path = tmp_path / "opts.json"
+    path.write_text(json.dumps(config))
+    cli_out = tmp_path / "cli.json"
+    subprocess.run([cli_path(), "optimize", "sim:manhattan", "--config", str(path), "--json", str(cli_out), "-q"],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    load_keys = {k: config.pop(k) for k in ("repair_information", "format")}
+    g = sk.load_pose_graph("sim:manhattan", **load_keys)
+    d = sk.optimize_pose_graph(g, as_dict=True, **config)
+    assert d["final_chi2"] == pytest.approx(json.loads(cli_out.read_text())["final_chi2"], rel=1e-12)
+
+
 def test_optimize_options_and_errors():
     g = sk.generate_pose_graph(world="manhattan", num_poses=300, seed=5)
     r = sk.optimize_pose_graph(g.copy(), solver="dogleg", init="spanning-tree", robust=sk.HuberKernel(2.0),
