@@ -85,6 +85,33 @@ EvalResult run_evaluate(const Trajectory& est, const Trajectory& ref, const std:
   return evaluate(est, ref, o);
 }
 
+// Run documents (EvalResult objects or dicts such as EvalResult.to_dict()) for the plots.
+std::vector<EvalRunData> run_data(const py::list& runs) {
+  std::vector<EvalRunData> data;
+  std::size_t k = 0;
+  for (py::handle run : runs) {
+    const std::string source = "runs[" + std::to_string(k++) + "]";
+    if (py::isinstance<EvalResult>(run)) {
+      const EvalResult& r = run.cast<const EvalResult&>();
+      data.push_back(eval_run_from_json(eval_result_to_json(r, run_source(r, source, "", "")), source));
+    } else {
+      data.push_back(eval_run_from_json(python_to_json(run, source), source));
+    }
+  }
+  if (data.empty()) throw py::value_error("plot: no runs");
+  return data;
+}
+
+std::vector<const EvalRunData*> pointers(const std::vector<EvalRunData>& d) {
+  std::vector<const EvalRunData*> p;
+  for (const auto& r : d) p.push_back(&r);
+  return p;
+}
+
+void check_size(double w, double h) {
+  if (!(w >= 50 && h >= 50 && w <= 1e5 && h <= 1e5)) throw py::value_error("plot: width and height in [50, 1e5]");
+}
+
 }  // namespace
 
 void init_eval(py::module_& m) {
@@ -249,6 +276,47 @@ void init_eval(py::module_& m) {
       py::arg("max_diff") = 0.01, py::arg("offset") = 0.0, py::arg("n_align") = 0, py::arg("delta") = 1.0,
       py::arg("delta_unit") = "f", py::arg("all_pairs") = false, py::arg("delta_tol") = 0.1,
       py::arg("pairs_from_reference") = false, "evaluate(metric='rpe', ...).");
+
+  m.def(
+      "plot_trajectories",
+      [](const py::list& runs, const std::string& view, double width, double height) {
+        check_size(width, height);
+        if (view != "top" && view != "side") throw py::value_error("view: 'top' or 'side'");
+        const auto d = run_data(runs);
+        return plot_trajectories(pointers(d), view == "top" ? TrajectoryView::kTop : TrajectoryView::kSide, width,
+                                 height)
+            .str();
+      },
+      py::arg("runs"), py::arg("view") = "top", py::arg("width") = 640.0, py::arg("height") = 480.0,
+      "SVG of the estimates over the reference (top or side view). runs: EvalResult objects or run dicts.");
+  m.def(
+      "plot_error_over_time",
+      [](const py::list& runs, double width, double height) {
+        check_size(width, height);
+        const auto d = run_data(runs);
+        return plot_error_over_time(pointers(d), width, height).str();
+      },
+      py::arg("runs"), py::arg("width") = 640.0, py::arg("height") = 360.0,
+      "SVG of the per-pair errors against time (one run: with rmse, mean, median and the std band).");
+  m.def(
+      "plot_error_along_path",
+      [](const py::object& run, double width, double height) {
+        check_size(width, height);
+        py::list l;
+        l.append(run);
+        const auto d = run_data(l);
+        return plot_error_along_path(d[0], width, height).str();
+      },
+      py::arg("run"), py::arg("width") = 640.0, py::arg("height") = 480.0,
+      "SVG of the estimate coloured by its error over the reference.");
+  m.def(
+      "plot_error_histogram",
+      [](const py::list& runs, double width, double height) {
+        check_size(width, height);
+        const auto d = run_data(runs);
+        return plot_error_histogram(pointers(d), width, height).str();
+      },
+      py::arg("runs"), py::arg("width") = 640.0, py::arg("height") = 360.0, "SVG histogram of the errors.");
 
   m.def(
       "render_html_report",

@@ -143,3 +143,20 @@ def test_run_document_plot_and_report(tmp_path):
         sk.render_html_report([str(tmp_path / "missing.json")])
     with pytest.raises(sk.InputError):
         r.plot(str(tmp_path / "no" / "dir" / "x.svg"))
+
+
+def test_single_figures():
+    est, ref = synthetic_pair()
+    a, b = sk.ate(est, ref), sk.ate(est, ref, align="sim3")
+    for svg in (sk.plot_trajectories([a, b.to_dict(label="sim3")]), sk.plot_trajectories([a], view="side"),
+                sk.plot_error_over_time([a]), sk.plot_error_over_time([a, b]), sk.plot_error_along_path(a),
+                sk.plot_error_histogram([a, b])):
+        assert svg.lstrip().startswith("<svg") and svg.rstrip().endswith("</svg>")
+    with pytest.raises(ValueError):
+        sk.plot_trajectories([a], view="front")
+    with pytest.raises(ValueError):
+        sk.plot_error_histogram([])
+    with pytest.raises(ValueError):
+        sk.plot_error_over_time([a], width=np.nan)
+    with pytest.raises(sk.InputError):
+        sk.plot_error_along_path({"kind": "ate"})
