@@ -156,8 +156,8 @@ void init_core(py::module_& m) {
         return symbol(c[0], index);
       },
       py::arg("char"), py::arg("index"), "GTSAM-style key: the character in the top 8 bits, the index below.");
-  m.def("symbol_char", [](Key k) { return std::string(1, symbol_char(k)); }, py::arg("key"));
-  m.def("symbol_index", &symbol_index, py::arg("key"));
+  m.def("symbol_char", [](Key k) { return std::string(1, symbol_char(k)); }, py::arg("key"), "The character of a symbol key.");
+  m.def("symbol_index", &symbol_index, py::arg("key"), "The index of a symbol key.");
   m.def("key_to_string", &key_to_string, py::arg("key"), "'x3' for symbol keys, the plain number otherwise.");
 
   // ---- Values ----
@@ -186,13 +186,14 @@ void init_core(py::module_& m) {
             object_to_params(v.manifold(i), value, v.params(i));
           },
           py::arg("key"), py::arg("value"), "Replaces a variable's value (same type).")
-      .def("exists", &Values::exists, py::arg("key"))
+      .def("exists", &Values::exists, py::arg("key"), "True if a variable has this key.")
       .def("__contains__", &Values::exists)
       .def("__len__", &Values::size)
-      .def("size", &Values::size)
-      .def("set_fixed", &Values::set_fixed, py::arg("key"), py::arg("fixed") = true)
-      .def("is_fixed", &Values::is_fixed, py::arg("key"))
-      .def("num_fixed", &Values::num_fixed)
+      .def("size", &Values::size, "Number of variables.")
+      .def("set_fixed", &Values::set_fixed, py::arg("key"), py::arg("fixed") = true,
+           "Holds a variable fixed (gauge, known calibration): the optimizer leaves it alone.")
+      .def("is_fixed", &Values::is_fixed, py::arg("key"), "True if the variable is held fixed.")
+      .def("num_fixed", &Values::num_fixed, "Number of fixed variables.")
       .def(
           "keys",
           [](const Values& v) {
@@ -229,7 +230,7 @@ void init_core(py::module_& m) {
             return out;
           },
           py::arg("keys"), "N×7 [tx, ty, tz, qx, qy, qz, qw] of the SE3 variables at keys.")
-      .def("copy", [](const Values& v) { return Values(v); })
+      .def("copy", [](const Values& v) { return Values(v); }, "An independent copy.")
       .def("__copy__", [](const Values& v) { return Values(v); })
       .def("__deepcopy__", [](const Values& v, py::dict) { return Values(v); })
       .def("__repr__", [](const Values& v) {
@@ -286,8 +287,8 @@ void init_core(py::module_& m) {
           py::arg("sigma"), "From a covariance matrix (symmetric positive definite).")
       .def_property_readonly("kind", &NoiseModel::kind)
       .def_property_readonly("dim", &NoiseModel::dim)
-      .def("sqrt_information", &NoiseModel::sqrt_information)
-      .def("information_matrix", &NoiseModel::information_matrix)
+      .def("sqrt_information", &NoiseModel::sqrt_information, "R (upper triangular) with R^T R = Omega.")
+      .def("information_matrix", &NoiseModel::information_matrix, "Omega = Sigma^-1.")
       .def(
           "whiten",
           [](const NoiseModel& n, const py::handle& r) {
@@ -323,13 +324,13 @@ void init_core(py::module_& m) {
     if (!(delta > 0.0) || !std::isfinite(delta)) throw py::value_error("delta must be positive and finite");
     return delta;
   };
-  py::class_<HuberKernel, RobustKernel, std::shared_ptr<HuberKernel>>(m, "HuberKernel")
+  py::class_<HuberKernel, RobustKernel, std::shared_ptr<HuberKernel>>(m, "HuberKernel", "s <= d^2: s, else 2 d sqrt(s) - d^2.")
       .def(py::init([=](double d) { return std::make_shared<HuberKernel>(kernel_init(d)); }), py::arg("delta"));
-  py::class_<CauchyKernel, RobustKernel, std::shared_ptr<CauchyKernel>>(m, "CauchyKernel")
+  py::class_<CauchyKernel, RobustKernel, std::shared_ptr<CauchyKernel>>(m, "CauchyKernel", "d^2 ln(1 + s / d^2).")
       .def(py::init([=](double d) { return std::make_shared<CauchyKernel>(kernel_init(d)); }), py::arg("delta"));
-  py::class_<TukeyKernel, RobustKernel, std::shared_ptr<TukeyKernel>>(m, "TukeyKernel")
+  py::class_<TukeyKernel, RobustKernel, std::shared_ptr<TukeyKernel>>(m, "TukeyKernel", "s <= d^2: d^2/3 (1 - (1 - s/d^2)^3), else d^2/3.")
       .def(py::init([=](double d) { return std::make_shared<TukeyKernel>(kernel_init(d)); }), py::arg("delta"));
-  py::class_<GemanMcClureKernel, RobustKernel, std::shared_ptr<GemanMcClureKernel>>(m, "GemanMcClureKernel")
+  py::class_<GemanMcClureKernel, RobustKernel, std::shared_ptr<GemanMcClureKernel>>(m, "GemanMcClureKernel", "d^2 s / (d^2 + s).")
       .def(py::init([=](double d) { return std::make_shared<GemanMcClureKernel>(kernel_init(d)); }),
            py::arg("delta"));
   py::class_<DcsKernel, RobustKernel, std::shared_ptr<DcsKernel>>(m, "DcsKernel",
@@ -385,9 +386,9 @@ void init_core(py::module_& m) {
             if (!f) throw py::value_error("add: factor is None");
             g.add(f);
           },
-          py::arg("factor"))
+          py::arg("factor"), "Adds a factor (built-in or CustomFactor).")
       .def("__len__", &FactorGraph::size)
-      .def("size", &FactorGraph::size)
+      .def("size", &FactorGraph::size, "Number of factors.")
       .def("__getitem__",
            [](const FactorGraph& g, std::ptrdiff_t i) {
              const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(g.size());
@@ -406,7 +407,7 @@ void init_core(py::module_& m) {
            "InputError unless every key exists with the type its factor expects.")
       .def("__repr__", [](const FactorGraph& g) { return "FactorGraph(" + std::to_string(g.size()) + " factors)"; });
 
-  py::class_<JacobianCheckResult>(m, "JacobianCheckResult")
+  py::class_<JacobianCheckResult>(m, "JacobianCheckResult", "Outcome of check_jacobians: ok, and where the worst entry is.")
       .def_readonly("ok", &JacobianCheckResult::ok)
       .def_readonly("worst_error", &JacobianCheckResult::worst_error)
       .def_readonly("factor", &JacobianCheckResult::factor)
@@ -416,7 +417,7 @@ void init_core(py::module_& m) {
       .def_readonly("analytic", &JacobianCheckResult::analytic)
       .def_readonly("numeric", &JacobianCheckResult::numeric)
       .def_readonly("factors_checked", &JacobianCheckResult::factors_checked)
-      .def("message", &JacobianCheckResult::message)
+      .def("message", &JacobianCheckResult::message, "Human-readable summary.")
       .def("__bool__", [](const JacobianCheckResult& r) { return r.ok; })
       .def("__repr__", [](const JacobianCheckResult& r) { return r.message(); });
   m.def(
@@ -435,7 +436,7 @@ void init_core(py::module_& m) {
       .value("INDEFINITE", InformationStatus::kIndefinite)
       .value("NOT_SYMMETRIC", InformationStatus::kNotSymmetric)
       .value("NOT_FINITE", InformationStatus::kNotFinite);
-  py::class_<InformationCheck>(m, "InformationCheck")
+  py::class_<InformationCheck>(m, "InformationCheck", "Classification of one information matrix with its extreme eigenvalues.")
       .def_readonly("status", &InformationCheck::status)
       .def_readonly("min_eigenvalue", &InformationCheck::min_eigenvalue)
       .def_readonly("max_eigenvalue", &InformationCheck::max_eigenvalue);

@@ -125,7 +125,7 @@ void init_eval(py::module_& m) {
       .def_readonly("max", &ErrorStatistics::max)
       .def_readonly("sse", &ErrorStatistics::sse)
       .def_readonly("count", &ErrorStatistics::count)
-      .def("to_dict", &stats_dict)
+      .def("to_dict", &stats_dict, "The statistics as a dict.")
       .def("__repr__", [](const ErrorStatistics& s) {
         return "ErrorStatistics(rmse=" + std::to_string(s.rmse) + ", mean=" + std::to_string(s.mean) +
                ", count=" + std::to_string(s.count) + ")";
@@ -137,7 +137,7 @@ void init_eval(py::module_& m) {
         if (v.size() == 0) throw py::value_error("compute_statistics: empty input");
         return compute_statistics(std::vector<double>(v.data(), v.data() + v.size()));
       },
-      py::arg("errors"));
+      py::arg("errors"), "evo's statistics of an error array.");
 
   py::class_<Association>(m, "Association", "est_ids[k] is matched with ref_ids[k].")
       .def_property_readonly("est_ids", [](const Association& a) { return to_array(a.est_ids); })
@@ -169,7 +169,7 @@ void init_eval(py::module_& m) {
       .def_property_readonly("errors", [](const PoseErrors& e) { return to_array(e.errors); })
       .def_property_readonly("translation", [](const PoseErrors& e) { return to_array(e.translation); }, "[m]")
       .def_property_readonly("rotation_deg", [](const PoseErrors& e) { return to_array(e.rotation_deg); }, "[deg]");
-  py::class_<RpeErrors, PoseErrors>(m, "RpeErrors")
+  py::class_<RpeErrors, PoseErrors>(m, "RpeErrors", "RPE errors with the index pairs they belong to.")
       .def_property_readonly("pairs", [](const RpeErrors& e) { return pairs_array(e.pairs); }, "K×2 (i, j).");
   m.def(
       "compute_ate",

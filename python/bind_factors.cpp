@@ -51,7 +51,7 @@ std::shared_ptr<Factor> prior_factory(Key key, const py::handle& value, const No
 
 template <class T>
 void bind_prior_class(py::module_& m, const char* name) {
-  py::class_<PriorFactor<T>, Factor, std::shared_ptr<PriorFactor<T>>>(m, name)
+  py::class_<PriorFactor<T>, Factor, std::shared_ptr<PriorFactor<T>>>(m, name, "Prior factor (made by PriorFactor()).")
       .def_property_readonly("measured", [](const PriorFactor<T>& f) { return f.measured(); });
 }
 
@@ -140,7 +140,7 @@ void init_factors(py::module_& m) {
         "Unary factor towards measured (SE2/SE3/SO2/SO3: e = Log(z^-1 x); vectors: e = x - z).");
 
   // ---- pose-graph pipeline ----
-  py::class_<InitSummary>(m, "InitSummary")
+  py::class_<InitSummary>(m, "InitSummary", "What the initialization did: requested and used method, time, notes.")
       .def_property_readonly("requested", [](const InitSummary& s) { return std::string(to_string(s.requested)); })
       .def_property_readonly("used", [](const InitSummary& s) { return std::string(to_string(s.used)); })
       .def_readonly("time_s", &InitSummary::time_s)

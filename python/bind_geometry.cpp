@@ -317,7 +317,7 @@ void init_geometry(py::module_& m) {
           [](Similarity3& S, const py::handle& t) { S.t = to_vector(t, 3, "translation"); })
       .def_readwrite("scale", &Similarity3::scale)
       .def("matrix", &Similarity3::matrix, "[[s R, t], [0, 1]].")
-      .def("inverse", &Similarity3::inverse)
+      .def("inverse", &Similarity3::inverse, "p -> (1/s) R^T (p - t).")
       .def("rigid_part", &Similarity3::rigid_part, "(R, t) as an SE3.")
       .def(
           "apply",

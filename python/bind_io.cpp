@@ -119,13 +119,15 @@ void init_io(py::module_& m) {
         std::istringstream in(text);
         return read_trajectory(in, source, parse_trajectory_format(format));
       },
-      py::arg("text"), py::arg("format") = "tum", py::arg("source") = "<string>");
+      py::arg("text"), py::arg("format") = "tum", py::arg("source") = "<string>",
+      "Parses trajectory text; source names it in errors.");
   m.def(
       "write_trajectory",
       [](const std::string& path, const Trajectory& t, const std::string& format) {
         write_trajectory(path, t, parse_trajectory_format(format));
       },
-      py::arg("path"), py::arg("trajectory"), py::arg("format") = "tum");
+      py::arg("path"), py::arg("trajectory"), py::arg("format") = "tum",
+      "Writes a trajectory file ('tum', 'euroc', 'kitti', 'slamkit').");
   m.def(
       "trajectory_to_string",
       [](const Trajectory& t, const std::string& format) {
@@ -133,11 +135,11 @@ void init_io(py::module_& m) {
         write_trajectory(out, t, parse_trajectory_format(format));
         return out.str();
       },
-      py::arg("trajectory"), py::arg("format") = "tum");
+      py::arg("trajectory"), py::arg("format") = "tum", "The text write_trajectory would write.");
   m.def(
       "detect_trajectory_format",
       [](const std::string& path) { return std::string(to_string(detect_trajectory_format(path))); },
-      py::arg("path"));
+      py::arg("path"), "Guesses a trajectory file's format: 'tum', 'euroc', 'kitti' or 'slamkit'.");
 }
 
 }  // namespace slamkit::python

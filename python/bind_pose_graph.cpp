@@ -177,14 +177,14 @@ void init_pose_graph(py::module_& m) {
       .def_property_readonly("measured", &edge_measurement)
       .def_readonly("information", &GraphEdge::information, "In g2o's error coordinates.")
       .def_readonly("line", &GraphEdge::line);
-  py::class_<InformationHealth>(m, "InformationHealth")
+  py::class_<InformationHealth>(m, "InformationHealth", "Counts of the information matrices of a graph by health.")
       .def_readonly("positive_definite", &InformationHealth::positive_definite)
       .def_readonly("singular", &InformationHealth::singular)
       .def_readonly("indefinite", &InformationHealth::indefinite)
       .def_readonly("not_symmetric", &InformationHealth::not_symmetric)
       .def_readonly("not_finite", &InformationHealth::not_finite)
       .def_readonly("first_bad_line", &InformationHealth::first_bad_line)
-      .def("bad", &InformationHealth::bad);
+      .def("bad", &InformationHealth::bad, "Matrices that are not positive definite.");
 
   py::class_<PoseGraph>(m, "PoseGraph",
                         "A pose-graph dataset: 2D/3D pose and landmark vertices with estimates, edges with "
@@ -207,7 +207,7 @@ void init_pose_graph(py::module_& m) {
             }
             if (!g.add_vertex(v)) throw py::value_error("add_pose: vertex " + std::to_string(id) + " exists already");
           },
-          py::arg("id"), py::arg("pose"))
+          py::arg("id"), py::arg("pose"), "Adds a 2D (SE2) or 3D (SE3) pose vertex.")
       .def(
           "add_point",
           [](PoseGraph& g, std::int64_t id, const py::handle& p) {
@@ -219,18 +219,18 @@ void init_pose_graph(py::module_& m) {
             v.point.head(x.size()) = x;
             if (!g.add_vertex(v)) throw py::value_error("add_point: vertex " + std::to_string(id) + " exists already");
           },
-          py::arg("id"), py::arg("point"))
+          py::arg("id"), py::arg("point"), "Adds a 2D or 3D landmark vertex.")
       .def("add_edge", &add_edge, py::arg("from_id"), py::arg("to_id"), py::arg("measured"), py::arg("information"),
            "Adds an edge; its kind follows the vertex kinds (pose-pose: SE2/SE3, pose-point: a vector).")
       .def_property_readonly("num_vertices", [](const PoseGraph& g) { return g.vertices().size(); })
       .def_property_readonly("num_edges", [](const PoseGraph& g) { return g.edges.size(); })
       .def("dimension", &PoseGraph::dimension, "2 or 3 (0: empty).")
-      .def("num_poses", &PoseGraph::num_poses)
-      .def("num_points", &PoseGraph::num_points)
+      .def("num_poses", &PoseGraph::num_poses, "Number of pose vertices.")
+      .def("num_points", &PoseGraph::num_points, "Number of landmark vertices.")
       .def("vertex", &PoseGraph::vertex, py::arg("id"), "The vertex with this id (InputError if unknown).")
       .def("has_vertex", [](const PoseGraph& g, std::int64_t id) { return g.index_of(id).has_value(); },
-           py::arg("id"))
-      .def("edge", &edge_at, py::arg("index"))
+           py::arg("id"), "True if a vertex has this id.")
+      .def("edge", &edge_at, py::arg("index"), "Edge i (negative: from the end) as a GraphEdge copy.")
       .def(
           "vertex_ids",
           [](const PoseGraph& g) {
@@ -279,7 +279,7 @@ void init_pose_graph(py::module_& m) {
       .def("edge_error", [](const PoseGraph& g, std::ptrdiff_t i) { return edge_error(g, edge_at(g, i)); },
            py::arg("index"), "g2o error vector of edge i at the current estimates.")
       .def("total_chi2", &total_chi2, "Sum of e^T Omega e over all edges (g2o's chi2).")
-      .def("count_connected_components", &count_connected_components)
+      .def("count_connected_components", &count_connected_components, "Connected components (EQUIV joins too).")
       .def(
           "gauge_vertices",
           [](const PoseGraph& g) {
@@ -288,12 +288,13 @@ void init_pose_graph(py::module_& m) {
             return py::make_tuple(ids, notes);
           },
           "(ids, notes): the vertices held fixed (FIX, else the smallest pose id per component).")
-      .def("check_information", [](const PoseGraph& g) { return check_information(g); })
+      .def("check_information", [](const PoseGraph& g) { return check_information(g); }, "Health of every information matrix.")
       .def("repair_information", &repair_information, py::arg("relative_floor") = 1e-9,
            "Projects non-PD information matrices to the PSD cone; returns how many changed.")
-      .def("complete_estimates_by_odometry", &complete_estimates_by_odometry)
+      .def("complete_estimates_by_odometry", &complete_estimates_by_odometry,
+           "Gives vertices without an estimate one by composing measurements; returns how many.")
       .def("to_trajectory", &to_trajectory, "Poses in id order (id as stamp; 2D poses in the z = 0 plane).")
-      .def("copy", [](const PoseGraph& g) { return PoseGraph(g); })
+      .def("copy", [](const PoseGraph& g) { return PoseGraph(g); }, "An independent copy.")
       .def("__copy__", [](const PoseGraph& g) { return PoseGraph(g); })
       .def("__deepcopy__", [](const PoseGraph& g, py::dict) { return PoseGraph(g); })
       .def("__repr__", [](const PoseGraph& g) {
@@ -318,9 +319,9 @@ void init_pose_graph(py::module_& m) {
             require_finite(stamp, "stamp");
             t.push_back(stamp, pose);
           },
-          py::arg("stamp"), py::arg("pose"))
+          py::arg("stamp"), py::arg("pose"), "Appends a sample (stamps must not go back in time).")
       .def("__len__", &Trajectory::size)
-      .def("size", &Trajectory::size)
+      .def("size", &Trajectory::size, "Number of samples.")
       .def(
           "pose",
           [](const Trajectory& t, std::ptrdiff_t i) {
@@ -329,7 +330,7 @@ void init_pose_graph(py::module_& m) {
             if (i < 0 || i >= n) throw py::index_error("sample index out of range");
             return t[static_cast<std::size_t>(i)].T_world_body;
           },
-          py::arg("index"))
+          py::arg("index"), "The pose T_world_body of sample i (negative: from the end).")
       .def("stamps", [](const Trajectory& t) { return to_array(t.stamps()); }, "Stamps (N,) [s].")
       .def("positions", [](const Trajectory& t) { return to_array(t.positions()); }, "Positions (N, 3).")
       .def(
@@ -393,8 +394,8 @@ void init_pose_graph(py::module_& m) {
               throw py::value_error(e.what());
             }
           },
-          py::arg("ids"))
-      .def("copy", [](const Trajectory& t) { return Trajectory(t); })
+          py::arg("ids"), "The samples at ids, in that order.")
+      .def("copy", [](const Trajectory& t) { return Trajectory(t); }, "An independent copy.")
       .def("__repr__", [](const Trajectory& t) {
         return "Trajectory(" + std::to_string(t.size()) + " poses" + (t.has_timestamps() ? "" : ", no timestamps") + ")";
       });

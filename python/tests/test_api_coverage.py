@@ -110,3 +110,26 @@ def test_exceptions_hierarchy():
     with pytest.raises(sk.InputError) as e:
         sk.parse_robust_kernel("huber:x")
     assert e.value.field and e.value.line == 0
+
+
+def doc_text(obj):
+    """The docstring without pybind11's generated signature lines."""
+    name = getattr(obj, "__name__", "?")
+    lines = [line.strip() for line in (obj.__doc__ or "").splitlines()]
+    return " ".join(line for line in lines if line and not line.startswith(name + "(")
+                    and line != "Overloaded function." and not line[:2].rstrip(".").isdigit())
+
+
+def test_everything_has_a_docstring():
+    missing = []
+    for n in dir(sk):
+        o = getattr(sk, n)
+        if n.startswith("_") or not callable(o):
+            continue
+        if not doc_text(o):
+            missing.append(n)
+        if isinstance(o, type) and n not in EXCEPTIONS:
+            for attr, v in vars(o).items():
+                if not attr.startswith("_") and callable(v) and not isinstance(v, type) and not doc_text(v):
+                    missing.append(f"{n}.{attr}")
+    assert not missing, f"without a docstring: {missing}"
