@@ -353,14 +353,12 @@ void init_core(py::module_& m) {
       "One term rho(||R r(x)||^2) of the cost. Jacobians are w.r.t. tangent perturbations x ⊞ delta.")
       .def_property_readonly("keys", &Factor::keys)
       .def_property_readonly("residual_dim", &Factor::residual_dim)
-      .def_property_readonly("noise_model",
-                             [](const Factor& f) -> std::shared_ptr<NoiseModel> {
-                               // The factor owns its noise model; hand out a non-owning alias
-                               // only while the factor lives (keep_alive below).
-                               return std::shared_ptr<NoiseModel>(std::shared_ptr<NoiseModel>{},
-                                                                  const_cast<NoiseModel*>(f.noise_model()));
-                             },
-                             py::keep_alive<0, 1>())
+      .def_property_readonly(
+          "noise_model",
+          // A copy (noise models are small and immutable): it may be given to other factors
+          // and outlive this one.
+          [](const Factor& f) { return std::make_shared<NoiseModel>(*f.noise_model()); },
+          "The factor's noise model (a copy).")
       .def_property_readonly(
           "robust_kernel",
           [](const Factor& f) -> py::object {

@@ -172,7 +172,8 @@ void init_factors(py::module_& m) {
       py::arg("graph"), py::arg("robust") = py::none(), py::arg("robust_loop_closures_only") = false,
       py::arg("se3_error") = "quaternion",
       "Factors and variables of a pose graph; robust: a RobustKernel or 'KERNEL:delta'. "
-      "Returns a PoseGraphProblem (copies: edit problem.values via a local variable).");
+      "problem.graph and problem.values refer into the returned PoseGraphProblem (optimizing "
+      "problem.values changes it; use problem.values.copy() to keep the start).");
   m.def("copy_estimates", &copy_estimates, py::arg("values"), py::arg("graph"),
         "Writes the variables back into the graph's vertex estimates.");
 

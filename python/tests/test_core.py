@@ -133,6 +133,12 @@ def test_factor_graph_and_factors():
     f = g[1]
     assert f.keys == [0, 1] and f.residual_dim == 3 and f.robust_kernel is None
     assert f.noise_model.dim == 3
+    noise = g[1].noise_model
+    reused = sk.BetweenFactorSE2(0, 1, sk.SE2(), noise)
+    del g, f  # the copy of the noise model outlives the factor it came from
+    g, _ = two_pose_problem()
+    f = g[1]
+    np.testing.assert_allclose(reused.noise_model.information_matrix(), np.diag([100.0, 100.0, 400.0]))
     r, (J0, J1) = f.error(v)
     assert r.shape == (3,) and J0.shape == (3, 3) and J1.shape == (3, 3)
     # Jacobian of the raw residual against central differences on the tangent space
