@@ -2,7 +2,7 @@
 """A factor written in Python (like GTSAM's CustomFactor): 2D range-only localization plus a
 pose with a heading prior. The function gets the variables' values and returns the residual,
 and the Jacobians (w.r.t. x ⊞ δ) when asked; check_jacobians compares them with central
-differences before optimizing. Python factors cost about 20 µs per evaluation (docs/python.md):
+differences before optimizing. Python factors cost about 16 µs per evaluation (docs/python.md):
 use them for prototypes and small problems, and C++ FactorN for large ones.
 
     PYTHONPATH=build/python python3 examples/python/custom_factor.py
