@@ -49,3 +49,19 @@ def numeric_jacobian(f, x, plus, dim, h=1e-6):
         d[c] = h
         cols.append((f(plus(x, d)) - f(plus(x, -d))) / (2 * h))
     return np.stack(cols, axis=1)
+
+
+# ctest sees a file whose tests were all skipped (no datasets) as skipped, not passed: exit
+# code 77 (SKIP_RETURN_CODE in python/CMakeLists.txt, as the C++ shell tests do). Exit code 5
+# (nothing collected) stays a failure.
+_outcomes = {"passed": 0, "failed": 0, "skipped": 0}
+
+
+def pytest_runtest_logreport(report):
+    if report.when == "call" or report.outcome != "passed":
+        _outcomes[report.outcome] = _outcomes.get(report.outcome, 0) + 1
+
+
+def pytest_sessionfinish(session, exitstatus):
+    if exitstatus == 0 and _outcomes["skipped"] > 0 and _outcomes["passed"] == 0 and _outcomes["failed"] == 0:
+        session.exitstatus = 77
