@@ -12,7 +12,8 @@ extra=(libgtest-dev libgmock-dev libbenchmark-dev
        libceres-dev                 # benchmark peer only
        clang libclang-rt-14-dev     # libFuzzer + sanitizers for the fuzz targets
        chromium                     # headless rendering test of the HTML report
-       python3 git)
+       python3 git
+       python3-dev pybind11-dev python3-numpy python3-pytest)  # the slamkit Python module
 
 wanted=("${core[@]}")
 if [[ "${SLAMKIT_MINIMAL_DEPS:-0}" != 1 ]]; then wanted+=("${extra[@]}"); fi
