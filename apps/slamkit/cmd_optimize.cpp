@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "calibration_cli.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "slamkit/core/pose_graph_error.h"
@@ -18,6 +19,7 @@ namespace {
 
 struct OptimizeArgs {
   std::string input, output, json, trajectory, config, label;
+  std::string calibrate = "auto";
   std::string solver = "gn", init = "auto", robust, format = "auto", linear_solver = "auto", ordering = "auto";
   int max_iterations = 100, threads = 0, blas_threads = 1;
   double function_tolerance = 1e-5, gradient_tolerance = 1e-10, parameter_tolerance = 1e-8;
@@ -88,6 +90,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
   o.optimizer.ordering = parse_ordering(a.ordering);
   if (!a.robust.empty()) o.problem.kernel = parse_robust_kernel(a.robust);
   o.problem.kernel_on_odometry = !a.robust_loops_only;
+  o.problem.calibration = parse_calibrate_option(a.calibrate);
 
   const Stopwatch load_clock;
   PoseGraphReadReport report;
@@ -119,6 +122,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
   std::printf("  result           chi2 %.10g (g2o definition), end-to-end %.4f s (init + optimization; load %.4f s "
               "apart)\n",
               r.final_chi2, r.time_total_s, load_time);
+  print_calibration(r.calibration);
 
   if (!a.output.empty()) {
     std::vector<std::string> warnings;
@@ -149,6 +153,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
     j["time_total_s"] = r.time_total_s;  // end to end: ordering + initialization + optimization
     j["time_end_to_end_s"] = r.time_total_s;
     j["notes"] = r.notes;
+    if (!r.calibration.parameters.empty() || !r.calibration.warnings.empty()) add_calibration_json(j, r.calibration, a.input);
     write_json(a.json, j);
   }
   if (!r.summary.success())
@@ -184,6 +189,9 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_flag("--repair-information", args->repair_information,
                 "Project information matrices that are not positive definite to the PSD cone");
   cmd->add_flag("--allow-unknown-tags", args->allow_unknown_tags, "Skip unknown tags with a warning");
+  cmd->add_option("--calibrate", args->calibrate,
+                  "Calibration variables to estimate: auto | none | offset,odometry (docs/calibration.md)")
+      ->capture_default_str();
   cmd->add_option("--json", args->json, "Write the summary as JSON (- for stdout)");
   cmd->add_option("--trajectory", args->trajectory, "Write the optimized poses as a TUM trajectory");
   cmd->add_option("--config", args->config, "JSON file with any of the options above (flags win)");

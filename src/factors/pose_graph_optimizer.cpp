@@ -1,6 +1,8 @@
 #include "slamkit/factors/pose_graph_optimizer.h"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 
 #include "slamkit/core/pose_graph_error.h"
 
@@ -40,9 +42,32 @@ PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOption
   r.notes = problem.notes;
   OptimizerOptions opt = options.optimizer;
   opt.variable_order = order;
+  // Calibration variables (after the vertices in Values) are eliminated last; unobservable
+  // calibration parameters are held at their initial values (factors/calibration_problem.h).
+  std::vector<std::string> held;
+  CalibrationReport before;
+  if (!problem.calibration.empty()) {
+    for (std::size_t i = g.vertices().size(); i < problem.values.size(); ++i)
+      opt.variable_order.order.push_back(static_cast<int>(i));
+    before = analyze_calibration(problem.graph, problem.values, problem.calibration, options.problem.calibration);
+    held = hold_unobservable(before, problem.calibration, problem.values, problem.graph);
+  }
   r.summary = Optimizer(opt).optimize(problem.graph, problem.values);
   copy_estimates(problem.values, g);
-  r.final_chi2 = options.problem.kernel ? total_chi2(g) : r.summary.final_cost;
+  if (!problem.calibration.empty()) {
+    r.calibration = analyze_calibration(problem.graph, problem.values, problem.calibration, options.problem.calibration);
+    r.calibration.held = held;
+    r.calibration.warnings = before.warnings;
+    for (CalibrationParameterEstimate& p : r.calibration.parameters) {
+      if (std::find(held.begin(), held.end(), p.name) != held.end()) {
+        p.observable = false;
+        p.sigma = std::numeric_limits<double>::quiet_NaN();
+      } else if (!p.observable) {
+        r.calibration.warnings.push_back("calibration parameter " + p.name + " is unobservable at the optimum");
+      }
+    }
+  }
+  r.final_chi2 = options.problem.kernel || !problem.calibration.empty() ? total_chi2(g) : r.summary.final_cost;
   r.time_total_s = seconds_since(t_start);
   return r;
 }
