@@ -191,6 +191,7 @@ CalibrationReport analyze_calibration(const FactorGraph& graph, const Values& va
   }
   const Eigen::MatrixXd N = d.asDiagonal().inverse() * mi.schur * d.asDiagonal().inverse();
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
+
   for (int k = 0; k < m; ++k) {
     if (eig.eigenvalues()[k] >= 1e-9 * std::max(1.0, eig.eigenvalues().maxCoeff())) continue;
     for (int i = 0; i < m; ++i)
@@ -215,9 +216,15 @@ CalibrationReport analyze_calibration(const FactorGraph& graph, const Values& va
       p.name = v.name + "." + names[static_cast<std::size_t>(k)];
       p.value = value[k];
       p.sigma = std::sqrt(std::max(0.0, cov(i, i)));
+      const double scale = coordinate_scale(v, values, k);
+      const double q = p.sigma > 0.0 ? scale * scale / (p.sigma * p.sigma) / n : 0.0;
+      p.excitation = std::isfinite(q) ? q : 0.0;
+      if (mi.hessian_diag[i] * scale * scale / n < 1e-12) {
+        p.excitation = 0.0;
+        if (observable[static_cast<std::size_t>(i)])
+          observable[static_cast<std::size_t>(i)] = false, why[static_cast<std::size_t>(i)] = "no measurement depends on it";
+      }
       if (observable[static_cast<std::size_t>(i)]) {
-        const double scale = coordinate_scale(v, values, k);
-        const double q = scale * scale / (p.sigma * p.sigma) / n;
         if (!(q >= options.min_excitation)) {
           observable[static_cast<std::size_t>(i)] = false;
           why[static_cast<std::size_t>(i)] = "excited only at the noise level (information per measurement " +
@@ -227,7 +234,8 @@ CalibrationReport analyze_calibration(const FactorGraph& graph, const Values& va
       p.observable = observable[static_cast<std::size_t>(i)];
       if (!p.observable) {
         p.sigma = std::numeric_limits<double>::quiet_NaN();
-        report.warnings.push_back("calibration parameter " + p.name + " is unobservable: " + why[static_cast<std::size_t>(i)]);
+        p.reason = why[static_cast<std::size_t>(i)];
+        report.warnings.push_back("calibration parameter " + p.name + " is unobservable: " + p.reason);
       }
       report.parameters.push_back(p);
     }
@@ -236,30 +244,28 @@ CalibrationReport analyze_calibration(const FactorGraph& graph, const Values& va
   return report;
 }
 
-std::vector<std::string> hold_unobservable(const CalibrationReport& report,
-                                           const std::vector<CalibrationVariable>& variables, const Values& values,
-                                           FactorGraph& graph) {
-  std::vector<std::string> held;
-  std::size_t p = 0;
+bool hold_calibration_parameter(const std::string& name, const std::vector<CalibrationVariable>& variables,
+                                const Values& initial, FactorGraph& graph) {
   for (const CalibrationVariable& v : variables) {
     if (!v.estimated) continue;
-    for (int k = 0; k < v.dim; ++k, ++p) {
-      if (report.parameters[p].observable) continue;
-      const double sigma = 1e-6 * std::max(1e-3, coordinate_scale(v, values, k));
+    const std::vector<std::string> names = coordinate_names(v);
+    for (int k = 0; k < v.dim; ++k) {
+      if (v.name + "." + names[static_cast<std::size_t>(k)] != name) continue;
+      const double sigma = 1e-6 * std::max(1e-3, coordinate_scale(v, initial, k));
       switch (v.type) {
-        case Type::kOffset2: graph.emplace<ComponentPriorFactor<SE2>>(v.key, values.at<SE2>(v.key), k, sigma); break;
-        case Type::kOffset3: graph.emplace<ComponentPriorFactor<SE3>>(v.key, values.at<SE3>(v.key), k, sigma); break;
+        case Type::kOffset2: graph.emplace<ComponentPriorFactor<SE2>>(v.key, initial.at<SE2>(v.key), k, sigma); break;
+        case Type::kOffset3: graph.emplace<ComponentPriorFactor<SE3>>(v.key, initial.at<SE3>(v.key), k, sigma); break;
         case Type::kOdomDifferential:
-          graph.emplace<ComponentPriorFactor<Eigen::Vector3d>>(v.key, values.at<Eigen::Vector3d>(v.key), k, sigma);
+          graph.emplace<ComponentPriorFactor<Eigen::Vector3d>>(v.key, initial.at<Eigen::Vector3d>(v.key), k, sigma);
           break;
         case Type::kOdomLinear:
-          graph.emplace<ComponentPriorFactor<Vector9d>>(v.key, values.at<Vector9d>(v.key), k, sigma);
+          graph.emplace<ComponentPriorFactor<Vector9d>>(v.key, initial.at<Vector9d>(v.key), k, sigma);
           break;
       }
-      held.push_back(report.parameters[p].name);
+      return true;
     }
   }
-  return held;
+  return false;
 }
 
 void copy_calibration_estimates(const Values& values, PoseGraph& g) {

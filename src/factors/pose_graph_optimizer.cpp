@@ -42,31 +42,43 @@ PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOption
   r.notes = problem.notes;
   OptimizerOptions opt = options.optimizer;
   opt.variable_order = order;
-  // Calibration variables (after the vertices in Values) are eliminated last; unobservable
-  // calibration parameters are held at their initial values (factors/calibration_problem.h).
-  std::vector<std::string> held;
-  CalibrationReport before;
-  if (!problem.calibration.empty()) {
-    for (std::size_t i = g.vertices().size(); i < problem.values.size(); ++i)
-      opt.variable_order.order.push_back(static_cast<int>(i));
-    before = analyze_calibration(problem.graph, problem.values, problem.calibration, options.problem.calibration);
-    held = hold_unobservable(before, problem.calibration, problem.values, problem.graph);
-  }
+  // Calibration variables (after the vertices in Values) are eliminated last. After the run,
+  // parameters the data does not determine are restored to their initial values and held
+  // there by tight priors, and the problem is optimized again (factors/calibration_problem.h).
+  for (std::size_t i = g.vertices().size(); i < problem.values.size(); ++i)
+    opt.variable_order.order.push_back(static_cast<int>(i));
+  const Values initial = problem.values;
   r.summary = Optimizer(opt).optimize(problem.graph, problem.values);
-  copy_estimates(problem.values, g);
   if (!problem.calibration.empty()) {
-    r.calibration = analyze_calibration(problem.graph, problem.values, problem.calibration, options.problem.calibration);
+    const CalibrationOptions& co = options.problem.calibration;
+    r.calibration = analyze_calibration(problem.graph, problem.values, problem.calibration, co);
+    std::vector<std::string> held, warnings;
+    for (;;) {
+      const CalibrationParameterEstimate* worst = nullptr;
+      for (const CalibrationParameterEstimate& p : r.calibration.parameters)
+        if (!p.observable && std::find(held.begin(), held.end(), p.name) == held.end() &&
+            (!worst || p.excitation < worst->excitation))
+          worst = &p;
+      if (!worst || !hold_calibration_parameter(worst->name, problem.calibration, initial, problem.graph)) break;
+      held.push_back(worst->name);
+      warnings.push_back("calibration parameter " + worst->name + " is unobservable (" + worst->reason +
+                         "); held at its initial value");
+      problem.values = initial;
+      r.summary = Optimizer(opt).optimize(problem.graph, problem.values);
+      r.calibration = analyze_calibration(problem.graph, problem.values, problem.calibration, co);
+    }
+    if (!held.empty())
+      r.notes.push_back("optimized again with " + std::to_string(held.size()) +
+                        " unobservable calibration parameters held at their initial values");
     r.calibration.held = held;
-    r.calibration.warnings = before.warnings;
+    r.calibration.warnings = warnings;
     for (CalibrationParameterEstimate& p : r.calibration.parameters) {
-      if (std::find(held.begin(), held.end(), p.name) != held.end()) {
-        p.observable = false;
-        p.sigma = std::numeric_limits<double>::quiet_NaN();
-      } else if (!p.observable) {
-        r.calibration.warnings.push_back("calibration parameter " + p.name + " is unobservable at the optimum");
-      }
+      if (std::find(held.begin(), held.end(), p.name) == held.end()) continue;
+      p.observable = false;
+      p.sigma = std::numeric_limits<double>::quiet_NaN();
     }
   }
+  copy_estimates(problem.values, g);
   r.final_chi2 = options.problem.kernel || !problem.calibration.empty() ? total_chi2(g) : r.summary.final_cost;
   r.time_total_s = seconds_since(t_start);
   return r;

@@ -143,8 +143,8 @@ PoseGraph calib3d(const CalibrationSimOptions& o, CalibrationTruth* truth, PoseG
   for (int k = 0; k < n; ++k) {
     const double psi = 2 * kPi * k / kPerLap, lap = static_cast<double>(k / kPerLap);
     const SO3 R = SO3::exp(Eigen::Vector3d(0, 0, psi + kPi / 2)) *
-                  SO3::exp(Eigen::Vector3d(0.4 * std::sin(2 * psi + 0.7 * lap), 0, 0)) *
-                  SO3::exp(Eigen::Vector3d(0, 0.35 * std::cos(3 * psi + 0.4 * lap), 0));
+                  SO3::exp(Eigen::Vector3d(0.6 * std::sin(2 * psi + 0.7 * lap), 0, 0)) *
+                  SO3::exp(Eigen::Vector3d(0, 0.5 * std::cos(3 * psi + 0.4 * lap), 0));
     x_true.emplace_back(R, Eigen::Vector3d(5 * std::cos(psi), 5 * std::sin(psi), 0.8 * std::sin(3 * psi) + 0.1 * lap));
   }
   auto noisy = [&](const SE3& z) {
@@ -233,7 +233,7 @@ bool parse_calibration_sim_spec(const std::string& spec, CalibrationSimOptions* 
   if (rest != "calib2d" && rest != "calib3d") return false;
   CalibrationSimOptions o;
   o.world = rest;
-  if (o.world == "calib3d") o.laps = 2;
+  if (o.world == "calib3d") o.laps = 3;
   std::istringstream ps(params);
   std::string kv;
   while (std::getline(ps, kv, '&')) {

@@ -16,9 +16,11 @@
 //     (baseline): the information per measurement about a change of one "scale". A parameter
 //     the data excites only at the noise level (a straight path for the baseline or the offset
 //     translation: q ≈ 1 from fitting noise) has q < min_excitation (default 4).
-// Unobservable parameters get a warning naming them and, before optimization, a tight prior
-// that holds them at their initial value (σ = 1e-6 scale), so the result is not a drift in the
-// null space; their reported sigma is null.
+// Unobservable parameters (checked at the optimum) get a warning naming them; optimize_pose_graph
+// then holds the least excited one at its initial value with a tight prior (σ = 1e-6 scale),
+// optimizes again from the initial values and checks again, until the rest is observable (one
+// unobservable parameter, e.g. a baseline drifting to infinity, can make others look so).
+// The result is not a drift in the null space; held parameters report a null sigma.
 #pragma once
 
 #include <string>
@@ -56,6 +58,8 @@ struct CalibrationParameterEstimate {
   double value = 0.0;  ///< offsets: x, y, θ (SE3: translation and rotation vector Log(R))
   double sigma = 0.0;  ///< marginal standard deviation (NaN when unobservable)
   bool observable = true;
+  double excitation = 0.0;  ///< q above (0: no information)
+  std::string reason;       ///< why it is unobservable
 };
 
 struct CalibrationReport {
@@ -79,11 +83,10 @@ CalibrationReport analyze_calibration(const FactorGraph& graph, const Values& va
                                       const std::vector<CalibrationVariable>& variables,
                                       const CalibrationOptions& options);
 
-/// Adds a tight prior at its current value on every parameter `report` found unobservable;
-/// returns their names.
-std::vector<std::string> hold_unobservable(const CalibrationReport& report,
-                                           const std::vector<CalibrationVariable>& variables, const Values& values,
-                                           FactorGraph& graph);
+/// Adds a tight prior (σ = 1e-6 scale) holding parameter `name` (as the report names it) at its
+/// value in `initial`: tangent coordinate k of x ⊟ x₀. False if no free variable has it.
+bool hold_calibration_parameter(const std::string& name, const std::vector<CalibrationVariable>& variables,
+                                const Values& initial, FactorGraph& graph);
 
 /// Copies the calibration variables' values back into the graph and refreshes the effective
 /// measurements of its calibrated edges.
