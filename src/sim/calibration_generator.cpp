@@ -192,6 +192,7 @@ PoseGraph calib3d(const CalibrationSimOptions& o, CalibrationTruth* truth, PoseG
     g.edges.push_back(e);
   };
   for (int i = 0; i + 1 < n; ++i) sensor_edge(i, i + 1);
+  for (int i = 0; i + 12 < n; i += 3) sensor_edge(i, i + 12);          // over a window of 12 steps
   for (int j = kPerLap; j < n; j += 2) sensor_edge(j - kPerLap, j);  // the same place one lap earlier
   update_calibrated_measurements(g);
   if (truth) {

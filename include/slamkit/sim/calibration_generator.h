@@ -13,7 +13,8 @@
 // calib3d: a 6-DoF platform (rolling and pitching while it circles, climbing and descending)
 //   with plain odometry (EDGE_SE3:QUAT) and a sensor at an unknown PARAMS_SE3OFFSET measuring
 //   sensor-frame relative poses (EDGE_SE3_OFFSET, the same parameter on both sides); the
-//   generated graph estimates that parameter (calibration.estimate_offset_parameters).
+//   generated graph estimates that parameter (calibration.estimate_offset_parameters); the
+//   sensor relates consecutive poses, poses 12 steps apart and the same place one lap earlier.
 // Noise: Z = Z_true ⊞ n, n ~ N(0, diag σ²), information Σ⁻¹ in the edge's error coordinates.
 // Initial estimates: dead reckoning with the nominal calibration. Deterministic per seed.
 #pragma once
