@@ -204,6 +204,7 @@ CalibrationReport analyze_calibration(const FactorGraph& graph, const Values& va
     inv_eig[k] = eig.eigenvalues()[k] > 1e-9 * std::max(1.0, eig.eigenvalues().maxCoeff()) ? 1.0 / eig.eigenvalues()[k] : 0.0;
   const Eigen::MatrixXd cov_scaled = eig.eigenvectors() * inv_eig.asDiagonal() * eig.eigenvectors().transpose();
   const Eigen::MatrixXd cov = d.asDiagonal().inverse() * cov_scaled * d.asDiagonal().inverse();
+  report.covariance = cov;
   int offset = 0;
   for (std::size_t s = 0; s < free.size(); ++s) {
     const CalibrationVariable& v = *free[s];

@@ -181,6 +181,8 @@ void GraphBuilder::resolve_calibration() {
     moved.push_back(s);
   }
   g_.remove_vertices(moved);
+  std::sort(g_.calibration.vertices.begin(), g_.calibration.vertices.end(),
+            [](const CalibrationVertex& a, const CalibrationVertex& b) { return a.id < b.id; });  // writers keep id order
   // No calibration vertex may be a pose endpoint.
   for (const GraphEdge& e : g_.edges) {
     for (const auto& [id, field] : {std::pair{e.from, "from"}, std::pair{e.to, "to"}}) {

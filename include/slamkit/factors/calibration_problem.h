@@ -15,7 +15,7 @@
 //     scale = 1 m (offset translation), 1 rad (offset rotation), 1 (wheel scales, K), |b|
 //     (baseline): the information per measurement about a change of one "scale". A parameter
 //     the data excites only at the noise level (a straight path for the baseline or the offset
-//     translation: q ≈ 1 from fitting noise) has q < min_excitation (default 4).
+//     translation: q ≲ 1 from fitting noise) has q < min_excitation (default 1.5).
 // Unobservable parameters (checked at the optimum) get a warning naming them; optimize_pose_graph
 // then holds the least excited one at its initial value with a tight prior (σ = 1e-6 scale),
 // optimizes again from the initial values and checks again, until the rest is observable (one
@@ -35,7 +35,7 @@ struct CalibrationOptions {
   bool offsets = true;             ///< estimate sensor-offset vertices (VERTEX_SE2 of EDGE_SE2_CALIB)
   bool odometry = true;            ///< estimate odometry vertices
   bool offset_parameters = false;  ///< also estimate the PARAMS_* the offset edges use (--calibrate offset)
-  double min_excitation = 4.0;     ///< see above
+  double min_excitation = 1.5;     ///< see above (fitting noise alone gives q ≈ 1)
 };
 
 /// One free or fixed calibration variable of a problem.
@@ -65,7 +65,8 @@ struct CalibrationParameterEstimate {
 struct CalibrationReport {
   std::vector<CalibrationParameterEstimate> parameters;  ///< estimated parameters, in variable order
   std::vector<std::string> warnings;                      ///< one per unobservable parameter
-  std::vector<std::string> held;  ///< parameters held at their initial value before optimization
+  std::vector<std::string> held;  ///< parameters held at their initial value (unobservable)
+  Eigen::MatrixXd covariance;     ///< joint marginal covariance of `parameters` (pseudo-inverse)
 };
 
 /// Adds the calibration variables (after all vertices), the calibrated-edge factors and the
