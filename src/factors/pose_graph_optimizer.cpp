@@ -47,7 +47,7 @@ PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOption
   // there by tight priors, and the problem is optimized again (factors/calibration_problem.h).
   for (std::size_t i = g.vertices().size(); i < problem.values.size(); ++i)
     opt.variable_order.order.push_back(static_cast<int>(i));
-  const Values initial = problem.values;
+  const Values initial = problem.calibration.empty() ? Values() : problem.values;
   r.summary = Optimizer(opt).optimize(problem.graph, problem.values);
   if (!problem.calibration.empty()) {
     const CalibrationOptions& co = options.problem.calibration;
