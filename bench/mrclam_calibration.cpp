@@ -235,6 +235,20 @@ int main(int argc, char** argv) {
     thirds.push_back(part.robots);
   }
   j["thirds"] = thirds;
+  // Spread of the thirds (sample std): the scale factors drift over the run far more than the
+  // Hessian sigmas (white residuals) allow; std/√3 is an empirical sigma of the whole-run value.
+  for (int robot = 0; robot < 3; ++robot) {
+    for (const char* key : {"v_scale", "omega_scale"}) {
+      double m = 0, q = 0;
+      for (int k = 0; k < 3; ++k) m += thirds[k][robot][key]["value"].get<double>() / 3;
+      for (int k = 0; k < 3; ++k) q += std::pow(thirds[k][robot][key]["value"].get<double>() - m, 2) / 2;
+      j["robots"][robot][key]["thirds_std"] = std::sqrt(q);
+      j["robots"][robot][key]["empirical_sigma"] = std::sqrt(q / 3);
+      std::printf("robot %d %s: whole %.4f ± %.4f (Hessian), thirds std %.4f -> empirical sigma %.4f\n", robot + 1, key,
+                  j["robots"][robot][key]["value"].get<double>(), j["robots"][robot][key]["sigma"].get<double>(),
+                  std::sqrt(q), std::sqrt(q / 3));
+    }
+  }
   std::ofstream(out) << j.dump(2) << "\n";
   std::printf("wrote %s and %s\n", out.c_str(), graph_path.c_str());
   return 0;
