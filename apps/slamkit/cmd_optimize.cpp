@@ -47,7 +47,7 @@ void apply_config(const std::string& path, const CLI::App& cmd, OptimizeArgs& a)
   for (auto it = j.begin(); it != j.end(); ++it) {
     static const char* known[] = {"solver", "init", "robust", "robust_loop_closures_only", "max_iterations", "threads",
                                   "blas_threads", "function_tolerance", "gradient_tolerance", "parameter_tolerance",
-                                  "linear_solver", "ordering", "repair_information", "format"};
+                                  "linear_solver", "ordering", "repair_information", "format", "calibrate"};
     if (std::find(std::begin(known), std::end(known), it.key()) == std::end(known))
       throw InputError(path, 0, it.key(), "unknown option");
   }
@@ -65,6 +65,7 @@ void apply_config(const std::string& path, const CLI::App& cmd, OptimizeArgs& a)
   take("ordering", "--ordering", a.ordering);
   take("repair_information", "--repair-information", a.repair_information);
   take("format", "--format", a.format);
+  take("calibrate", "--calibrate", a.calibrate);
 }
 
 PoseGraph load(const OptimizeArgs& a, PoseGraphReadReport* report) {

@@ -16,6 +16,12 @@ struct Rng {
   double uniform(double half_width) { return std::uniform_real_distribution<double>(-half_width, half_width)(engine); }
 };
 
+Eigen::VectorXd identity_k() {
+  Eigen::VectorXd k(9);
+  k << 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  return k;
+}
+
 struct Command {
   double v, omega;
 };
@@ -84,7 +90,9 @@ PoseGraph calib2d(const CalibrationSimOptions& o, CalibrationTruth* truth, PoseG
   g.format = "g2o";
   for (int i = 0; i < n; ++i) add_vertex2(g, i, x_dead[static_cast<std::size_t>(i)]);
   g.calibration.vertices.push_back({offset_id, CalibrationKind::kOffset2, S_nominal, true, 0});
-  g.calibration.vertices.push_back({odometry_id, CalibrationKind::kOdomDifferential, K_nominal, true, 0});
+  const bool linear = o.odometry == "linear";
+  if (linear) g.calibration.vertices.push_back({odometry_id, CalibrationKind::kOdomLinear, identity_k(), true, 0});
+  else g.calibration.vertices.push_back({odometry_id, CalibrationKind::kOdomDifferential, K_nominal, true, 0});
 
   auto scan_edge = [&](int i, int j) {
     GraphEdge e;
@@ -102,9 +110,11 @@ PoseGraph calib2d(const CalibrationSimOptions& o, CalibrationTruth* truth, PoseG
     GraphEdge e;
     e.from = i, e.to = i + 1, e.kind = EdgeKind::kPose2Pose2;
     CalibratedMeasurement c;
-    c.kind = CalibratedEdgeKind::kOdomDifferential;
+    c.kind = linear ? CalibratedEdgeKind::kOdomLinear : CalibratedEdgeKind::kOdomDifferential;
     c.param_a = c.param_b = odometry_id;
     c.odometry = raw[static_cast<std::size_t>(i)];
+    // Linear model: the raw increment is the nominal dead-reckoning step (Δx, Δy, Δθ).
+    if (linear) c.odometry = differential_drive_motion(K_nominal, c.odometry[0], c.odometry[1], c.odometry[2]);
     e.calibrated = c;
     e.information = diag3(o.odometry_sigma_t, o.odometry_sigma_r);
     g.edges.push_back(e);
@@ -119,14 +129,14 @@ PoseGraph calib2d(const CalibrationSimOptions& o, CalibrationTruth* truth, PoseG
   update_calibrated_measurements(g);
   if (truth) {
     const std::string s = "offset[" + std::to_string(offset_id) + "].", k = "odometry[" + std::to_string(odometry_id) + "].";
-    *truth = {{s + "x", S_true[0]},       {s + "y", S_true[1]},        {s + "theta", S_true[2]},
-              {k + "k_left", K_true[0]}, {k + "k_right", K_true[1]}, {k + "baseline", K_true[2]}};
+    *truth = {{s + "x", S_true[0]}, {s + "y", S_true[1]}, {s + "theta", S_true[2]}};
+    if (!linear) truth->insert(truth->end(), {{k + "k_left", K_true[0]}, {k + "k_right", K_true[1]}, {k + "baseline", K_true[2]}});
   }
   if (gt) {
     *gt = g;
     for (int i = 0; i < n; ++i) gt->vertex_at(static_cast<std::size_t>(i)).pose2 = x_true[static_cast<std::size_t>(i)];
     gt->calibration.vertices[0].value = S_true;
-    gt->calibration.vertices[1].value = K_true;
+    if (!linear) gt->calibration.vertices[1].value = K_true;
     update_calibrated_measurements(*gt);
   }
   return g;
@@ -220,6 +230,8 @@ PoseGraph generate_calibration_problem(const CalibrationSimOptions& o, Calibrati
     throw InputError("", 0, "sigma", "noise sigmas must be positive");
   if (o.world == "calib2d") {
     if (o.path != "figure" && o.path != "line") throw InputError("", 0, "path", "path must be figure or line");
+    if (o.odometry != "differential" && o.odometry != "linear")
+      throw InputError("", 0, "odometry", "odometry must be differential or linear");
     return calib2d(o, truth, ground_truth);
   }
   if (o.world == "calib3d") return calib3d(o, truth, ground_truth);
@@ -245,7 +257,8 @@ bool parse_calibration_sim_spec(const std::string& spec, CalibrationSimOptions* 
       else if (key == "laps") o.laps = std::stoi(value);
       else if (key == "bias") o.bias = std::stod(value);
       else if (key == "path") o.path = value;
-      else throw InputError(spec, 0, key, "unknown parameter (seed, laps, bias, path)");
+      else if (key == "odometry") o.odometry = value;
+      else throw InputError(spec, 0, key, "unknown parameter (seed, laps, bias, path, odometry)");
     } catch (const std::logic_error&) {
       throw InputError(spec, 0, key, "not a number: '" + value + "'");
     }

@@ -31,6 +31,9 @@ namespace slamkit {
 struct CalibrationSimOptions {
   std::string world = "calib2d";  ///< "calib2d" or "calib3d"
   std::string path = "figure";    ///< calib2d: "figure" or "line"
+  /// calib2d: "differential" (wheel readings, VERTEX_ODOM_DIFFERENTIAL) or "linear" (the nominal
+  /// dead-reckoning increments (Δx, Δy, Δθ) with a VERTEX_ODOM_LINEAR K to estimate; no truth for K)
+  std::string odometry = "differential";
   int laps = 3;
   double step = 0.25;               ///< metres per pose (calib2d), per step (calib3d)
   double bias = 0.05;               ///< max relative error of the nominal wheel parameters
@@ -52,7 +55,7 @@ using CalibrationTruth = std::vector<std::pair<std::string, double>>;
 PoseGraph generate_calibration_problem(const CalibrationSimOptions& options, CalibrationTruth* truth = nullptr,
                                        PoseGraph* ground_truth = nullptr);
 
-/// "sim:calib2d", "sim:calib3d?seed=3&laps=2&path=line": true if `spec` names a calibration
+/// "sim:calib2d", "sim:calib3d?seed=3&laps=2&path=line&odometry=linear": true if `spec` names a calibration
 /// problem; fills `options`. Throws InputError on unknown parameters.
 bool parse_calibration_sim_spec(const std::string& spec, CalibrationSimOptions* options);
 
