@@ -12,6 +12,7 @@
 //   EDGE_SE2_ODOM_LINEAR_CALIB i j k Δx Δy Δθ Ω(3×3)   slamkit
 //   PRIOR_ODOM_DIFFERENTIAL id k_l k_r b Ω(3×3)        slamkit: prior on the odometry parameters
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "pose_graph_format.h"
@@ -241,6 +242,15 @@ void GraphBuilder::resolve_calibration() {
                            ": slamkit reads priors on sensor-offset and differential-odometry vertices only");
   }
   update_calibrated_measurements(g_);
+  for (const GraphEdge& e : g_.edges) {
+    if (!e.calibrated) continue;
+    const bool finite = e.kind == EdgeKind::kPose2Pose2
+                            ? e.pose2.translation().allFinite() && std::isfinite(e.pose2.theta())
+                            : e.pose3.translation().allFinite() && e.pose3.rotation().quaternion().coeffs().allFinite();
+    if (!finite)
+      throw InputError(g_.source, e.line, "measurement",
+                       std::string(to_string(e.calibrated->kind)) + ": the calibrated motion overflows");
+  }
 }
 
 namespace {

@@ -2,7 +2,7 @@
 # slamkit optimize with calibration variables, through the binary: JSON `calibration` and
 # `calibration_truth`, the unobservable warning, -o round trip, strict errors.
 set -uo pipefail
-slamkit=$1
+slamkit=$1 source_dir=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -41,4 +41,12 @@ printf 'VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2_CALIB 0 1 9 1 0 0 1 0 0
 grep -q "bad.g2o:3" "$work/bad.txt" || fail "error does not name the line: $(cat "$work/bad.txt")"
 grep -q "offset_id" "$work/bad.txt" || fail "error does not name the field: $(cat "$work/bad.txt")"
 "$slamkit" optimize sim:calib2d --calibrate wheels -q >/dev/null 2>&1 && fail "--calibrate wheels accepted"
+# 6. Every calibration tag (the fuzz seeds), priors included, reads and optimizes.
+"$slamkit" optimize "$source_dir/tests/fuzz/seeds/g2o/calibration_2d.g2o" -q >"$work/seed2.txt" 2>&1 ||
+  fail "2D seed failed: $(cat "$work/seed2.txt")"
+grep -q "odometry\[11\].k_left" "$work/seed2.txt" && grep -q "offset\[10\].theta" "$work/seed2.txt" &&
+  grep -q "odometry_linear\[12\].K11" "$work/seed2.txt" || fail "2D seed: calibration table incomplete"
+"$slamkit" optimize "$source_dir/tests/fuzz/seeds/g2o/calibration_3d.g2o" --calibrate offset -q >"$work/seed3.txt" 2>&1 ||
+  fail "3D seed failed: $(cat "$work/seed3.txt")"
+grep -q "params_se3offset\[0\]" "$work/seed3.txt" || fail "3D seed: no offset estimate"
 echo "calibration CLI: all checks passed"
