@@ -28,7 +28,7 @@
 #include "slamkit/eval/plot.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/io/pose_graph_io.h"
-#include "slamkit/io/text_reader.h"
+#include "slamkit/io/mrclam_odometry.h"
 
 using namespace slamkit;
 
@@ -38,49 +38,6 @@ double kKeyframe = 2.0;  // seconds (--keyframe); shorter keyframes bias the ω 
 double g_lag = 0.0;      // seconds the motion follows the command by (--lag)
 constexpr double kB0 = 0.25;       // nominal baseline, metres
 
-struct Sample {
-  double t, a, b, c;
-};
-
-std::vector<Sample> read_columns(const std::string& path, int columns) {
-  const auto r = TextReader::open(path);
-  std::vector<Sample> out;
-  while (r->next_line()) {
-    if (static_cast<int>(r->num_fields()) != columns)
-      r->fail("", "expected " + std::to_string(columns) + " columns, line has " + std::to_string(r->num_fields()));
-    Sample s{r->number(0, "time"), r->number(1, "col2"), r->number(2, "col3"), columns > 3 ? r->number(3, "col4") : 0.0};
-    if (!out.empty() && s.t < out.back().t) r->fail("time", "time stamps go backwards");
-    out.push_back(s);
-  }
-  if (out.size() < 2) throw InputError(path, 0, "", "fewer than 2 samples");
-  return out;
-}
-
-SE2 vicon_at(const std::vector<Sample>& gt, double t) {
-  auto it = std::lower_bound(gt.begin(), gt.end(), t, [](const Sample& s, double x) { return s.t < x; });
-  if (it == gt.begin()) return SE2(it->a, it->b, it->c);
-  if (it == gt.end()) return SE2(gt.back().a, gt.back().b, gt.back().c);
-  const Sample& p = *(it - 1);
-  const double w = (t - p.t) / std::max(1e-9, it->t - p.t);
-  return SE2(p.a + w * (it->a - p.a), p.b + w * (it->b - p.b), p.c + w * wrap_angle(it->c - p.c));
-}
-
-// Time-weighted mean of the commanded (v, ω) over [t0, t1); a command holds until the next one.
-Eigen::Vector2d mean_command(const std::vector<Sample>& odo, double t0, double t1) {
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  auto it = std::upper_bound(odo.begin(), odo.end(), t0, [](double x, const Sample& s) { return x < s.t; });
-  if (it != odo.begin()) --it;
-  for (; it != odo.end() && it->t < t1; ++it) {
-    const double a = std::max(t0, it->t), b = std::min(t1, it + 1 == odo.end() ? t1 : (it + 1)->t);
-    if (b > a) sum += (b - a) * Eigen::Vector2d(it->a, it->b);
-  }
-  return sum / (t1 - t0);
-}
-
-struct RobotData {
-  std::vector<Sample> odo, gt;
-};
-
 struct Built {
   PoseGraph g;
   std::vector<std::pair<std::size_t, std::size_t>> edge_ranges;  // per robot: its edges
@@ -89,57 +46,22 @@ struct Built {
 };
 
 // The one graph of all three robots over the fraction [from, to) of each robot's time span.
-Built build(const std::vector<RobotData>& data, double from, double to) {
+Built build(const std::vector<MrclamRobotLog>& data, double from, double to) {
+  OdometryCalibrationGraphOptions o;
+  o.keyframe_s = kKeyframe;
+  o.nominal_baseline = kB0;
+  o.from = from, o.to = to, o.lag_s = g_lag;
+  OdometryCalibrationGraph og = build_odometry_calibration_graph(data, o);
   Built b;
-  b.g.source = "MRCLAM_Dataset7";
-  b.g.format = "g2o";
-  for (int robot = 1; robot <= 3; ++robot) {
-    const RobotData& d = data[static_cast<std::size_t>(robot - 1)];
-    const double ta0 = std::max(d.odo.front().t, d.gt.front().t), ta1 = std::min(d.odo.back().t, d.gt.back().t);
-    const double t0 = ta0 + from * (ta1 - ta0), t1 = ta0 + to * (ta1 - ta0);
-    const int n = static_cast<int>((t1 - t0) / kKeyframe);
-    const std::int64_t base = robot * 100000, k_id = 1000000 + robot;
-    b.g.calibration.vertices.push_back({k_id, CalibrationKind::kOdomDifferential, Eigen::Vector3d(1, 1, kB0), true, 0});
-    double dist_vicon = 0, dist_cmd = 0, rot_num = 0, rot_den = 0;
-    b.vicon.emplace_back();
-    for (int k = 0; k <= n; ++k) {
-      GraphVertex v;
-      v.id = base + k;
-      v.pose2 = vicon_at(d.gt, t0 + k * kKeyframe);
-      b.g.add_vertex(v);
-      b.vicon.back().push_back(v.pose2);
-    }
-    const std::size_t first_edge = b.g.edges.size();
-    for (int k = 0; k < n; ++k) {
-      const double ta = t0 + k * kKeyframe;
-      const Eigen::Vector2d c = mean_command(d.odo, ta, ta + kKeyframe);
-      GraphEdge e;
-      e.from = base + k, e.to = base + k + 1, e.kind = EdgeKind::kPose2Pose2;
-      CalibratedMeasurement m;
-      m.kind = CalibratedEdgeKind::kOdomDifferential;
-      m.param_a = m.param_b = k_id;
-      m.odometry = Eigen::Vector3d(c[0] - c[1] * kB0 / 2, c[0] + c[1] * kB0 / 2, kKeyframe);
-      e.calibrated = m;
-      e.information = Eigen::Vector3d(1 / 4e-4, 1 / 4e-4, 1 / 2.5e-3).asDiagonal();
-      b.g.edges.push_back(e);
-      const SE2 dv = vicon_at(d.gt, ta).between(vicon_at(d.gt, ta + kKeyframe));
-      dist_vicon += dv.translation().norm();
-      dist_cmd += std::abs(c[0]) * kKeyframe;
-      rot_num += dv.theta() * c[1] * kKeyframe;
-      rot_den += c[1] * c[1] * kKeyframe * kKeyframe;
-    }
-    for (int k = 0; k < n; ++k) {
-      GraphEdge e;
-      e.from = base + k, e.to = base + k + 1, e.kind = EdgeKind::kPose2Pose2;
-      e.pose2 = vicon_at(d.gt, t0 + k * kKeyframe).between(vicon_at(d.gt, t0 + (k + 1) * kKeyframe));
-      e.information = Eigen::Vector3d(1e4, 1e4, 2500).asDiagonal();
-      b.g.edges.push_back(e);
-    }
-    b.edge_ranges.emplace_back(first_edge, b.g.edges.size());
-    b.robots.push_back({{"robot", robot}, {"keyframes", n + 1}, {"duration_s", t1 - t0},
-                        {"closed_form_v_scale", dist_vicon / dist_cmd}, {"closed_form_omega_scale", rot_num / rot_den}});
+  b.g = std::move(og.graph);
+  b.edge_ranges = og.edge_ranges;
+  b.vicon = og.vicon;
+  for (std::size_t r = 0; r < data.size(); ++r) {
+    const int n = static_cast<int>(b.vicon[r].size()) - 1;
+    b.robots.push_back({{"robot", data[r].robot}, {"keyframes", n + 1}, {"duration_s", n * kKeyframe},
+                        {"closed_form_v_scale", og.closed_form[r].v_scale},
+                        {"closed_form_omega_scale", og.closed_form[r].omega_scale}});
   }
-  update_calibrated_measurements(b.g);
   return b;
 }
 
@@ -263,13 +185,8 @@ int main(int argc, char** argv) {
     }
   }
   const std::filesystem::path dir = bench::data_root() / "landmark" / "MRCLAM_Dataset7";
-  std::vector<RobotData> data;
-  for (int robot = 1; robot <= 3; ++robot) {
-    const std::string name = "Robot" + std::to_string(robot);
-    data.push_back({read_columns((dir / (name + "_Odometry.dat")).string(), 3),
-                    read_columns((dir / (name + "_Groundtruth.dat")).string(), 4)});
-    for (Sample& c : data.back().odo) c.t += g_lag;  // the robot moves g_lag after the command
-  }
+  std::vector<MrclamRobotLog> data;
+  for (int robot = 1; robot <= 3; ++robot) data.push_back(read_mrclam_robot(dir.string(), robot));
   nlohmann::json j;
   j["dataset"] = dir.string();
   j["keyframe_s"] = kKeyframe;
