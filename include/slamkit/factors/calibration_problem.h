@@ -10,7 +10,7 @@
 // calibration block, solvers/marginal_information.h):
 //   * rank: an eigenvector of the correlation-scaled S = D⁻¹ S D⁻¹ (D² = diag H_cc) with
 //     eigenvalue < 1e-9 names the parameters with weight > 0.3 in it; a parameter no factor
-//     sees (diag H_cc = 0) is unobservable too;
+//     sees (diag H_cc · scale² / n < 1e-12, scale and n as below) is unobservable too;
 //   * excitation: q = (scale/σ)² / n, σ the marginal sigma, n the factors that see the variable,
 //     scale = 1 m (offset translation), 1 rad (offset rotation), 1 (wheel scales, K), |b|
 //     (baseline): the information per measurement about a change of one "scale". A parameter
