@@ -11,6 +11,7 @@
 #include "slamkit/core/error.h"
 #include "slamkit/core/output_file.h"
 #include "slamkit/io/pose_graph_io.h"
+#include "slamkit/sim/calibration_generator.h"
 #include "slamkit/sim/pose_graph_generator.h"
 
 namespace slamkit::cli {
@@ -31,8 +32,10 @@ inline void check_outputs(std::initializer_list<std::pair<const std::string*, co
 inline PoseGraph load_pose_graph(const std::string& spec, const PoseGraphReadOptions& options,
                                  PoseGraphReadReport* report) {
   PoseGraphSimOptions sim;
-  if (parse_sim_spec(spec, &sim)) {
-    PoseGraph g = generate_pose_graph(sim);
+  CalibrationSimOptions calib;
+  const bool is_calib = parse_calibration_sim_spec(spec, &calib);
+  if (is_calib || parse_sim_spec(spec, &sim)) {
+    PoseGraph g = is_calib ? generate_calibration_problem(calib) : generate_pose_graph(sim);
     g.source = spec;
     g.format = "g2o";  // what it would be written as
     if (report) {

@@ -4,6 +4,7 @@
 // consecutive ids, the other pose–pose edges are loop closures), connected components,
 // fixed vertices, EQUIV count, the health of the information matrices, the initial chi2
 // (g2o's definition, at the file's estimates) and the load time. --json writes the same.
+#include <algorithm>
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iomanip>
@@ -85,6 +86,9 @@ void run_info(const InfoOptions& o) {
   j["fixed_vertices"] = g.fixed.size();
   j["equivalences"] = g.equivalences.size();
   j["sensor_offsets"] = g.sensor_offsets.size();
+  const auto calibrated = std::count_if(g.edges.begin(), g.edges.end(), [](const GraphEdge& e) { return e.calibrated.has_value(); });
+  j["calibration_vertices"] = g.calibration.vertices.size();
+  j["calibrated_edges"] = calibrated;
   j["edges_only"] = report.edges_only;
   j["estimates_from_odometry"] = report.completed_estimates;
   j["positive_definite_information_edges"] = h.positive_definite;
@@ -118,6 +122,9 @@ void run_info(const InfoOptions& o) {
   row("fixed vertices", std::to_string(g.fixed.size()));
   row("equivalences", std::to_string(g.equivalences.size()) + " (EQUIV)");
   if (!g.sensor_offsets.empty()) row("sensor offsets", std::to_string(g.sensor_offsets.size()));
+  if (calibrated > 0 || !g.calibration.vertices.empty())
+    row("calibration", std::to_string(g.calibration.vertices.size()) + " vertices, " + std::to_string(calibrated) +
+                           " calibrated edges (docs/calibration.md)");
   if (report.edges_only) {
     row("estimates", "edges-only file: " + std::to_string(report.completed_estimates) +
                          " vertices initialized by odometry composition");

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "calibration_cli.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "optimize_config.h"
@@ -49,6 +50,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
   o.optimizer.ordering = parse_ordering(a.s.ordering);
   if (!a.s.robust.empty()) o.problem.kernel = parse_robust_kernel(a.s.robust);
   o.problem.kernel_on_odometry = !a.s.robust_loop_closures_only;
+  o.problem.calibration = parse_calibrate_option(a.s.calibrate);
 
   const Stopwatch load_clock;
   PoseGraphReadReport report;
@@ -80,6 +82,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
   std::printf("  result           chi2 %.10g (g2o definition), end-to-end %.4f s (init + optimization; load %.4f s "
               "apart)\n",
               r.final_chi2, r.time_total_s, load_time);
+  print_calibration(r.calibration);
 
   if (!a.output.empty()) {
     std::vector<std::string> warnings;
@@ -111,6 +114,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
     j["time_total_s"] = r.time_total_s;  // end to end: ordering + initialization + optimization
     j["time_end_to_end_s"] = r.time_total_s;
     j["notes"] = r.notes;
+    if (!r.calibration.parameters.empty() || !r.calibration.warnings.empty()) add_calibration_json(j, r.calibration, a.input);
     write_json(a.json, j);
   }
   if (!r.summary.success())
@@ -146,6 +150,9 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_flag("--repair-information", args->s.repair_information,
                 "Project information matrices that are not positive definite to the PSD cone");
   cmd->add_flag("--allow-unknown-tags", args->allow_unknown_tags, "Skip unknown tags with a warning");
+  cmd->add_option("--calibrate", args->s.calibrate,
+                  "Calibration variables to estimate: auto | none | offset,odometry (docs/calibration.md)")
+      ->capture_default_str();
   cmd->add_option("--json", args->json, "Write the summary as JSON (- for stdout)");
   cmd->add_option("--trajectory", args->trajectory, "Write the optimized poses as a TUM trajectory");
   cmd->add_option("--config", args->config, "JSON file with any of the options above (flags win)");

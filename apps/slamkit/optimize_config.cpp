@@ -8,6 +8,7 @@
 #include <tuple>
 #include <type_traits>
 
+#include "calibration_cli.h"
 #include "slamkit/core/error.h"
 #include "slamkit/core/robust_kernel.h"
 #include "slamkit/io/pose_graph_io.h"
@@ -44,6 +45,7 @@ void check_setting(const OptimizeSettings& s, const std::string& key) {
   else if (key == "linear_solver") (void)parse_sparse_backend(s.linear_solver);
   else if (key == "ordering") (void)parse_ordering(s.ordering);
   else if (key == "format") (void)parse_pose_graph_format(s.format);
+  else if (key == "calibrate") (void)parse_calibrate_option(s.calibrate);
   else if (key == "max_iterations") require(s.max_iterations >= 0, "must be a non-negative integer");
   else if (key == "threads") require(s.threads >= 0, "must be a non-negative integer (0: all cores)");
   else if (key == "blas_threads") require(s.blas_threads >= 0, "must be a non-negative integer (0: = threads)");
@@ -82,7 +84,7 @@ bool OptimizeSettings::operator==(const OptimizeSettings& o) const {
   auto fields = [](const OptimizeSettings& x) {
     return std::tie(x.solver, x.init, x.robust, x.robust_loop_closures_only, x.max_iterations, x.threads,
                     x.blas_threads, x.function_tolerance, x.gradient_tolerance, x.parameter_tolerance,
-                    x.linear_solver, x.ordering, x.repair_information, x.format);
+                    x.linear_solver, x.ordering, x.repair_information, x.format, x.calibrate);
   };
   return fields(*this) == fields(o);
 }

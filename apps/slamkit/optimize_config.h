@@ -28,6 +28,7 @@ struct OptimizeSettings {
   std::string ordering = "auto";       // auto | amd | metis | nesdis | natural
   bool repair_information = false;
   std::string format = "auto";  // auto | g2o | toro | gtsam
+  std::string calibrate = "auto";  // auto | none | offset,odometry (calibration_cli.h)
 
   bool operator==(const OptimizeSettings& o) const;
 };
@@ -49,6 +50,7 @@ void for_each_setting(Settings& s, F&& f) {
   f("ordering", "--ordering", s.ordering);
   f("repair_information", "--repair-information", s.repair_information);
   f("format", "--format", s.format);
+  f("calibrate", "--calibrate", s.calibrate);
 }
 
 /// Throws InputError(source, 0, key, ...) if a value is out of its domain (unknown name,

@@ -54,6 +54,17 @@ bool PoseGraph::add_vertex(const GraphVertex& v) {
   return true;
 }
 
+void PoseGraph::remove_vertices(const std::vector<std::int64_t>& ids) {
+  if (ids.empty()) return;
+  std::vector<GraphVertex> kept;
+  kept.reserve(vertices_.size());
+  for (const GraphVertex& v : vertices_)
+    if (std::find(ids.begin(), ids.end(), v.id) == ids.end()) kept.push_back(v);
+  vertices_ = std::move(kept);
+  index_.clear();
+  for (std::size_t i = 0; i < vertices_.size(); ++i) index_.emplace(vertices_[i].id, i);
+}
+
 std::optional<std::size_t> PoseGraph::index_of(std::int64_t id) const {
   const auto it = index_.find(id);
   if (it == index_.end()) return std::nullopt;

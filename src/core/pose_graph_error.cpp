@@ -1,6 +1,7 @@
 #include "slamkit/core/pose_graph_error.h"
 
 #include "slamkit/core/error.h"
+#include "slamkit/core/pose_graph_calibration.h"
 
 namespace slamkit {
 
@@ -81,6 +82,7 @@ Eigen::Vector3d pose3_point_error(const Eigen::Vector3d& z, const SE3& X, const 
 }
 
 Eigen::VectorXd edge_error(const PoseGraph& g, const GraphEdge& e) {
+  if (e.calibrated) return calibrated_edge_error(g, e);
   const GraphVertex& a = g.vertex(e.from);
   const GraphVertex& b = g.vertex(e.to);
   switch (e.kind) {
@@ -105,6 +107,10 @@ double quadratic_form(const Eigen::Matrix<double, N, 1>& e, const Eigen::MatrixX
 }  // namespace
 
 double edge_chi2(const PoseGraph& g, const GraphEdge& e) {
+  if (e.calibrated) {
+    const Eigen::VectorXd r = calibrated_edge_error(g, e);
+    return r.dot(e.information * r);
+  }
   const GraphVertex& a = g.vertex(e.from);
   const GraphVertex& b = g.vertex(e.to);
   switch (e.kind) {

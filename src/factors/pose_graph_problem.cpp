@@ -19,6 +19,7 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphPro
       case VertexKind::kPoint3: p.values.insert(k, v.point); break;
     }
   }
+  add_calibration_to_problem(g, options.calibration, p.values, p.graph, p.calibration);
   for (const GraphEdge& e : g.edges) {
     std::shared_ptr<const NoiseModel> noise;
     try {
@@ -31,6 +32,10 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphPro
                            "); use --repair-information to project it to the PSD cone");
     }
     const auto kernel = (options.kernel_on_odometry || !is_odometry(e)) ? options.kernel : nullptr;
+    if (e.calibrated) {
+      p.graph.add(make_calibrated_factor(e, noise, kernel));
+      continue;
+    }
     const Key a = vertex_key(e.from), b = vertex_key(e.to);
     switch (e.kind) {
       case EdgeKind::kPose2Pose2: p.graph.emplace<BetweenFactorSE2>(a, b, e.pose2, noise, kernel); break;
@@ -65,6 +70,7 @@ void copy_estimates(const Values& values, PoseGraph& g) {
     }
     v.has_estimate = true;
   }
+  copy_calibration_estimates(values, g);
 }
 
 }  // namespace slamkit

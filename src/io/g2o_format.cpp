@@ -5,6 +5,7 @@
 //   VERTEX_XY id x y                        EDGE_SE2_XY i j x y  Ω(2×2 upper)
 //   VERTEX_TRACKXYZ id x y z                EDGE_SE3_TRACKXYZ i j param x y z  Ω(3×3 upper)
 //   PARAMS_SE3OFFSET id x y z qx qy qz qw   FIX id [id ...]
+// and the calibration tags of g2o_calibration_format.cpp.
 // Ω is listed as its upper triangle row by row and is already in PoseGraph's convention.
 #include <string>
 
@@ -103,7 +104,7 @@ void read_g2o_record(const TextReader& r, GraphBuilder& b) {
   } else if (tag == "FIX") {
     if (r.num_fields() < 2) r.fail("id", "missing: FIX needs at least one vertex id");
     for (std::size_t i = 1; i < r.num_fields(); ++i) b.add_fixed(r, read_id(r, i, "id"));
-  } else {
+  } else if (!read_g2o_calibration_record(r, b)) {
     r.fail("tag", "not a g2o tag: '" + std::string(tag) + "'");  // the caller filters tags first
   }
 }
@@ -147,6 +148,7 @@ void append_vertex(std::string& out, const GraphVertex& v) {
 }
 
 void append_edge(std::string& out, const GraphEdge& e) {
+  if (e.calibrated) return append_g2o_calibrated_edge(out, e);
   static constexpr const char* kTags[] = {"EDGE_SE2 ", "EDGE_SE3:QUAT ", "EDGE_SE2_XY ", "EDGE_SE3_TRACKXYZ "};
   out += kTags[static_cast<int>(e.kind)];
   append_integer(out, e.from);
@@ -178,6 +180,7 @@ void write_g2o(const PoseGraph& g, std::string& out, std::vector<std::string>* w
   if (vertices_to_write(g, "g2o")) {
     for (const GraphVertex& v : g.vertices()) append_vertex(out, v);
   }
+  write_g2o_calibration_section(g, out);
   for (std::int64_t id : g.fixed) {
     out += "FIX ";
     append_integer(out, id);

@@ -133,6 +133,7 @@ void GraphBuilder::check_edge_kinds() const {
 
 bool GraphBuilder::finish() {
   if (!has_vertex_lines_) create_vertices_from_edges();
+  resolve_calibration();
   check_edge_kinds();
   for (const Reference& ref : references_) check_reference(ref);
   return !has_vertex_lines_;
@@ -314,6 +315,7 @@ TagFamily classify_tag(std::string_view tag) {
                                               "PARAMS_SE3OFFSET"};
   for (std::string_view t : kG2o)
     if (tag == t) return TagFamily::kG2o;
+  if (is_g2o_calibration_tag(tag)) return TagFamily::kG2o;
   if (tag == "VERTEX2" || tag == "EDGE2" || tag == "EQUIV") return TagFamily::kToro2d;
   if (tag == "VERTEX3" || tag == "EDGE3") return TagFamily::kEdge3;
   return TagFamily::kUnknown;

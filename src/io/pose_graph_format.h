@@ -32,6 +32,10 @@ class GraphBuilder {
   void add_equivalence(const TextReader& r, std::int64_t a, std::int64_t b);
   /// Fails on a duplicate parameter id.
   void add_sensor_offset(const TextReader& r, int id, const SE3& offset);
+  /// Calibration records (core/calibration.h). Fails on duplicate ids.
+  void add_offset_parameter2(const TextReader& r, int id, const SE2& offset);
+  void add_calibration_vertex(const TextReader& r, CalibrationVertex v);
+  void add_calibration_prior(const TextReader& r, CalibrationPrior p);
   void warn(const TextReader& r, const std::string& message);
 
   /// Resolves every reference; in an edges-only file first creates the vertices the edges
@@ -48,6 +52,9 @@ class GraphBuilder {
   void check_reference(const Reference& ref) const;
   void create_vertices_from_edges();
   void check_edge_kinds() const;
+  /// VERTEX_SE2 lines named as offsets by EDGE_SE2_CALIB become calibration vertices; FIX of a
+  /// calibration vertex holds it; every calibrated edge's parameters must exist.
+  void resolve_calibration();
 
   PoseGraph& g_;
   std::vector<std::string>& warnings_;
@@ -102,6 +109,14 @@ enum class TagFamily { kUnknown, kG2o, kToro2d, kEdge3 };
 TagFamily classify_tag(std::string_view tag);
 
 void read_g2o_record(const TextReader& r, GraphBuilder& b);
+/// The calibration tags (g2o_calibration_format.cpp); false if `tag` is not one of them.
+bool read_g2o_calibration_record(const TextReader& r, GraphBuilder& b);
+/// Lines of the calibration section: PARAMS_SE2OFFSET, calibration vertices, their FIX, priors.
+void write_g2o_calibration_section(const PoseGraph& g, std::string& out);
+/// The line of a calibrated edge.
+void append_g2o_calibrated_edge(std::string& out, const GraphEdge& e);
+/// Whether `tag` is one of the calibration tags.
+bool is_g2o_calibration_tag(std::string_view tag);
 /// TORO VERTEX2 / EDGE2 / EQUIV.
 void read_toro2d_record(const TextReader& r, GraphBuilder& b);
 /// VERTEX3 / EDGE3 (TORO 3D and GTSAM: the same text).

@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "pose_graph_format.h"
+#include "slamkit/core/pose_graph_calibration.h"
 #include "slamkit/core/error.h"
 #include "slamkit/core/output_file.h"
 #include "slamkit/io/text_reader.h"
@@ -172,6 +173,11 @@ std::string pose_graph_to_string(const PoseGraph& g, PoseGraphFormat format, std
     format = g.format.empty() ? PoseGraphFormat::kG2o : parse_pose_graph_format(g.format);
   if (format == PoseGraphFormat::kAuto) format = PoseGraphFormat::kG2o;
   io_detail::check_writable(g);
+  if (format != PoseGraphFormat::kG2o && has_calibration(g) && warnings) {
+    warnings->push_back(std::string(to_string(format)) +
+                        " has no calibration tags: calibrated edges written with their effective measurements, "
+                        "calibration vertices and parameters dropped");
+  }
   std::string out;
   out.reserve(64 * (g.vertices().size() + 2 * g.edges.size()) + 256);
   switch (format) {

@@ -333,6 +333,10 @@ InitMethod parse_init_method(const std::string& s) {
 InitSummary initialize_pose_graph(PoseGraph& g, InitMethod method, const std::vector<std::int64_t>& gauge,
                                   const InitOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  for (std::int64_t id : gauge)
+    if (!g.index_of(id)) throw InputError(g.source, 0, "gauge", "gauge vertex " + std::to_string(id) + " is not in the graph");
+  if (gauge.empty() && !g.vertices().empty() && method != InitMethod::kNone)
+    throw InputError(g.source, 0, "gauge", "no gauge vertex: nothing anchors the initialization");
   InitSummary s;
   s.requested = method;
   const int dim = g.dimension();

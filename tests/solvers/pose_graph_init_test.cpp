@@ -72,5 +72,21 @@ TEST(PoseGraphInit, RejectsMethodsOfTheWrongDimension) {
   EXPECT_THROW(parse_init_method("magic"), InputError);
 }
 
+// Found through the Python bindings: an unknown gauge id crashed the initializer.
+TEST(PoseGraphInit, RejectsUnknownOrMissingGaugeVertices) {
+  PoseGraph truth;
+  PoseGraph g = noise_free("manhattan", &truth);
+  for (InitMethod m : {InitMethod::kOdometry, InitMethod::kSpanningTree, InitMethod::kLinear}) {
+    try {
+      initialize_pose_graph(g, m, {123456789});
+      ADD_FAILURE() << "unknown gauge vertex accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "gauge");
+      EXPECT_NE(std::string(e.what()).find("123456789"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(initialize_pose_graph(g, m, {}), InputError);
+  }
+}
+
 }  // namespace
 }  // namespace slamkit

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "slamkit/core/calibration.h"
 #include "slamkit/core/trajectory.h"
 #include "slamkit/geometry/se2.h"
 #include "slamkit/geometry/se3.h"
@@ -52,6 +53,9 @@ struct GraphEdge {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< measurement, pose–point edges
   Eigen::MatrixXd information;                      ///< error_dim × error_dim
   int sensor_offset_id = -1;  ///< EDGE_SE3_TRACKXYZ: the PARAMS_SE3OFFSET it uses
+  /// Set for a pose–pose edge measured through calibration parameters (core/calibration.h);
+  /// pose2/pose3 then hold the effective measurement at the current parameter values.
+  std::optional<CalibratedMeasurement> calibrated;
   int line = 0;
 };
 
@@ -63,6 +67,7 @@ class PoseGraph {
   std::vector<std::int64_t> fixed;  ///< FIX: gauge vertices
   std::vector<std::pair<std::int64_t, std::int64_t>> equivalences;  ///< TORO EQUIV a b
   std::map<int, SE3> sensor_offsets;                                 ///< g2o PARAMS_SE3OFFSET
+  CalibrationSection calibration;  ///< sensor-parameter variables (core/calibration.h)
 
   /// Adds a vertex; returns false (and changes nothing) if its id exists already.
   bool add_vertex(const GraphVertex& v);
@@ -70,6 +75,9 @@ class PoseGraph {
   /// Mutable access to estimates; ids and kinds must not be changed through it.
   GraphVertex& vertex_at(std::size_t index) { return vertices_[index]; }
   std::optional<std::size_t> index_of(std::int64_t id) const;
+  /// Removes the vertices with these ids (e.g. VERTEX_SE2 lines that turn out to be sensor
+  /// offsets); keeps the order of the others. O(V).
+  void remove_vertices(const std::vector<std::int64_t>& ids);
   const GraphVertex& vertex(std::int64_t id) const;  ///< throws InputError if unknown
 
   /// 2 or 3 from the pose kinds; 0 for an empty graph. Throws if 2D and 3D poses are mixed.

@@ -31,6 +31,7 @@ struct PoseGraphResult {
   double time_ordering_s = 0.0;
   double time_total_s = 0.0;     ///< ordering + initialization + problem build + optimization
   std::vector<std::string> notes;
+  CalibrationReport calibration;  ///< estimates with marginal sigmas, when the graph has calibration variables
 };
 
 PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOptions& options = {});

@@ -11,6 +11,7 @@
 #include "slamkit/core/factor_graph.h"
 #include "slamkit/core/pose_graph.h"
 #include "slamkit/factors/between_factor.h"
+#include "slamkit/factors/calibration_problem.h"
 
 namespace slamkit {
 
@@ -18,6 +19,7 @@ struct PoseGraphProblemOptions {
   std::shared_ptr<const RobustKernel> kernel;  ///< robust kernel on the edges (none: least squares)
   bool kernel_on_odometry = true;              ///< false: only loop closures get the kernel
   Se3ErrorForm se3_error = Se3ErrorForm::kQuaternion;
+  CalibrationOptions calibration;  ///< which calibration variables are free (factors/calibration_problem.h)
 };
 
 struct PoseGraphProblem {
@@ -25,6 +27,7 @@ struct PoseGraphProblem {
   Values values;
   std::vector<std::int64_t> gauge;  ///< fixed vertex ids
   std::vector<std::string> notes;   ///< choices made (gauge), to show the user
+  std::vector<CalibrationVariable> calibration;  ///< inserted after the vertices, in this order
 };
 
 inline Key vertex_key(std::int64_t id) { return static_cast<Key>(id); }
@@ -33,7 +36,7 @@ inline Key vertex_key(std::int64_t id) { return static_cast<Key>(id); }
 /// definite or a vertex has no estimate.
 PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& options = {});
 
-/// Copies the variables' values back into the graph's vertex estimates.
+/// Copies the variables' values back into the graph's vertex estimates (and its calibration).
 void copy_estimates(const Values& values, PoseGraph& g);
 
 }  // namespace slamkit

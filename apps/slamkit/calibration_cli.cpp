@@ -1,0 +1,61 @@
+#include "calibration_cli.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "slamkit/core/error.h"
+#include "slamkit/sim/calibration_generator.h"
+
+namespace slamkit::cli {
+
+CalibrationOptions parse_calibrate_option(const std::string& value) {
+  CalibrationOptions o;
+  if (value == "auto") return o;
+  o.offsets = o.odometry = false;
+  if (value == "none") return o;
+  std::istringstream in(value);
+  std::string part;
+  while (std::getline(in, part, ',')) {
+    if (part == "offset") o.offsets = o.offset_parameters = true;
+    else if (part == "odometry") o.odometry = true;
+    else throw InputError("--calibrate", 0, part, "unknown calibration group (auto, none, offset, odometry)");
+  }
+  return o;
+}
+
+void print_calibration(const CalibrationReport& report) {
+  for (const std::string& w : report.warnings) std::cerr << "slamkit: warning: " << w << "\n";
+  for (const std::string& h : report.held)
+    std::cerr << "slamkit: note: " << h << " held at its initial value (unobservable)\n";
+  if (report.parameters.empty()) return;
+  std::printf("  calibration      %-36s %16s %14s\n", "parameter", "estimate", "sigma");
+  for (const CalibrationParameterEstimate& p : report.parameters) {
+    if (std::isfinite(p.sigma))
+      std::printf("                   %-36s %16.8g %14.4g\n", p.name.c_str(), p.value, p.sigma);
+    else
+      std::printf("                   %-36s %16.8g %14s\n", p.name.c_str(), p.value, "unobservable");
+  }
+}
+
+void add_calibration_json(nlohmann::json& j, const CalibrationReport& report, const std::string& input) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const CalibrationParameterEstimate& p : report.parameters) {
+    nlohmann::json e = {{"name", p.name}, {"value", p.value}, {"observable", p.observable}};
+    e["sigma"] = std::isfinite(p.sigma) ? nlohmann::json(p.sigma) : nlohmann::json(nullptr);
+    list.push_back(e);
+  }
+  j["calibration"] = list;
+  j["calibration_warnings"] = report.warnings;
+  CalibrationSimOptions sim;
+  if (parse_calibration_sim_spec(input, &sim)) {
+    CalibrationTruth truth;
+    generate_calibration_problem(sim, &truth);
+    nlohmann::json t = nlohmann::json::array();
+    for (const auto& [name, value] : truth) t.push_back({{"name", name}, {"value", value}});
+    j["calibration_truth"] = t;
+  }
+}
+
+}  // namespace slamkit::cli
