@@ -4,6 +4,7 @@
 #include <random>
 #include <sstream>
 
+#include "sim_spec.h"
 #include "slamkit/core/error.h"
 #include "slamkit/core/pose_graph_calibration.h"
 
@@ -239,32 +240,35 @@ PoseGraph generate_calibration_problem(const CalibrationSimOptions& o, Calibrati
 }
 
 bool parse_calibration_sim_spec(const std::string& spec, CalibrationSimOptions* options) {
+  using namespace sim_detail;
   if (spec.rfind("sim:calib2d", 0) != 0 && spec.rfind("sim:calib3d", 0) != 0) return false;
-  std::string rest = spec.substr(4), params;
-  const auto q = rest.find('?');
-  if (q != std::string::npos) params = rest.substr(q + 1), rest = rest.substr(0, q);
-  if (rest != "calib2d" && rest != "calib3d") return false;
+  const SpecParts parts = split_spec(spec);
+  if (parts.world != "calib2d" && parts.world != "calib3d") return false;
   CalibrationSimOptions o;
-  o.world = rest;
-  if (o.world == "calib3d") o.laps = 3;
-  std::istringstream ps(params);
-  std::string kv;
-  while (std::getline(ps, kv, '&')) {
-    const auto eq = kv.find('=');
-    const std::string key = kv.substr(0, eq), value = eq == std::string::npos ? "" : kv.substr(eq + 1);
-    try {
-      if (key == "seed") o.seed = static_cast<std::uint32_t>(std::stoul(value));
-      else if (key == "laps") o.laps = std::stoi(value);
-      else if (key == "bias") o.bias = std::stod(value);
-      else if (key == "path") o.path = value;
-      else if (key == "odometry") o.odometry = value;
-      else throw InputError(spec, 0, key, "unknown parameter (seed, laps, bias, path, odometry)");
-    } catch (const std::logic_error&) {
-      throw InputError(spec, 0, key, "not a number: '" + value + "'");
-    }
+  o.world = parts.world;
+  const bool planar = o.world == "calib2d";
+  if (!planar) o.laps = 3;
+  for (const auto& [key, value] : parts.params) {
+    if (key == "seed") o.seed = static_cast<std::uint32_t>(spec_integer(spec, key, value, 0, 0xffffffffLL));
+    else if (key == "laps") o.laps = static_cast<int>(spec_integer(spec, key, value, 1, 1000));
+    else if (key == "bias") o.bias = spec_number(spec, key, value, 0.0, 0.5);
+    else if (key == "path" && planar && (value == "figure" || value == "line")) o.path = value;
+    else if (key == "odometry" && planar && (value == "differential" || value == "linear")) o.odometry = value;
+    else if ((key == "path" || key == "odometry") && planar)
+      throw InputError(spec, 0, key, "'" + value + "' is not one of " +
+                                         (key == "path" ? "figure, line" : "differential, linear"));
+    else throw InputError(spec, 0, key, std::string("unknown parameter for ") + o.world +
+                                            (planar ? " (seed, laps, bias, path, odometry)" : " (seed, laps, bias)"));
   }
   *options = o;
   return true;
+}
+
+std::string to_calibration_sim_spec(const CalibrationSimOptions& o) {
+  std::string spec = "sim:" + o.world + "?seed=" + std::to_string(o.seed) + "&laps=" + std::to_string(o.laps) +
+                     "&bias=" + sim_detail::spec_text(o.bias);
+  if (o.world == "calib2d") spec += "&path=" + o.path + "&odometry=" + o.odometry;
+  return spec;
 }
 
 }  // namespace slamkit

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "sim_spec.h"
 #include "slamkit/core/error.h"
 
 namespace slamkit {
@@ -157,39 +158,17 @@ PoseGraph generate_pose_graph(const PoseGraphSimOptions& o, PoseGraph* ground_tr
   throw InputError("", 0, "world", "unknown simulated world '" + o.world + "' (manhattan, sphere)");
 }
 
-namespace {
-
-/// The whole of `value` as a decimal integer in [lo, hi], else InputError naming spec and key.
-long long spec_integer(const std::string& spec, const std::string& key, const std::string& value, long long lo,
-                       long long hi) {
-  long long v = 0;
-  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
-  if (value.empty() || ec != std::errc() || end != value.data() + value.size())
-    throw InputError(spec, 0, key, "not an integer: '" + value + "'");
-  if (v < lo || v > hi)
-    throw InputError(spec, 0, key, std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
-                                       std::to_string(hi) + "]");
-  return v;
-}
-
-}  // namespace
-
 bool parse_sim_spec(const std::string& spec, PoseGraphSimOptions* options) {
+  using namespace sim_detail;
   if (spec.rfind("sim:", 0) != 0) return false;
-  std::string rest = spec.substr(4), params;
-  const auto q = rest.find('?');
-  if (q != std::string::npos) params = rest.substr(q + 1), rest = rest.substr(0, q);
+  const SpecParts parts = split_spec(spec);
   PoseGraphSimOptions o;
-  o.world = rest;
+  o.world = parts.world;
   if (o.world != "manhattan" && o.world != "sphere")
     throw InputError(spec, 0, "world", "unknown simulated world '" + o.world + "' (sim:manhattan, sim:sphere)");
-  if (o.world == "sphere") o.translation_sigma = 0.1, o.rotation_sigma = 0.02;
-  std::istringstream ps(params);
-  std::string kv;
-  while (std::getline(ps, kv, '&')) {
-    const auto eq = kv.find('=');
-    const std::string key = kv.substr(0, eq), value = eq == std::string::npos ? "" : kv.substr(eq + 1);
-    const bool sphere = o.world == "sphere";
+  const bool sphere = o.world == "sphere";
+  if (sphere) o.translation_sigma = 0.1, o.rotation_sigma = 0.02;
+  for (const auto& [key, value] : parts.params) {
     if (key == "seed") o.seed = static_cast<std::uint32_t>(spec_integer(spec, key, value, 0, 0xffffffffLL));
     else if (key == "poses" && !sphere) o.num_poses = static_cast<int>(spec_integer(spec, key, value, 2, kMaxSimPoses));
     else if (key == "rings" && sphere) o.rings = static_cast<int>(spec_integer(spec, key, value, 2, kMaxSimPoses / 3));

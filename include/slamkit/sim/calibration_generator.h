@@ -56,7 +56,13 @@ PoseGraph generate_calibration_problem(const CalibrationSimOptions& options, Cal
                                        PoseGraph* ground_truth = nullptr);
 
 /// "sim:calib2d", "sim:calib3d?seed=3&laps=2&path=line&odometry=linear": true if `spec` names a calibration
-/// problem; fills `options`. Throws InputError on unknown parameters.
+/// problem; fills `options`. Parameters: seed (0..2^32-1), laps (1..1000), bias ([0, 0.5)), and for
+/// calib2d path (figure | line) and odometry (differential | linear); numbers must be whole decimal
+/// texts. Anything else throws InputError naming the spec and the parameter.
 bool parse_calibration_sim_spec(const std::string& spec, CalibrationSimOptions* options);
+
+/// The spec that parse_calibration_sim_spec reads back to the same world, seed, laps, bias, path
+/// and odometry.
+std::string to_calibration_sim_spec(const CalibrationSimOptions& options);
 
 }  // namespace slamkit
