@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "cmd_optimize_bal.h"
 #include "commands.h"
 #include "slamkit/core/pose_graph_error.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
@@ -75,6 +76,13 @@ PoseGraph load(const OptimizeArgs& a, PoseGraphReadReport* report) {
 
 void run(const CLI::App& cmd, OptimizeArgs a) {
   if (!a.config.empty()) apply_config(a.config, cmd, a);
+  if (is_bundle_adjustment_input(a.input, a.format)) {  // BAL files, sim:ba (cmd_optimize_bal.cpp)
+    BundleAdjustmentCommonArgs b{a.input, a.output, a.json, a.robust, a.label, cmd.count("--solver") ? a.solver : ""};
+    b.max_iterations = a.max_iterations, b.threads = a.threads, b.blas_threads = a.blas_threads, b.quiet = a.quiet;
+    if (cmd.count("--function-tolerance")) b.function_tolerance = a.function_tolerance;
+    b.gradient_tolerance = a.gradient_tolerance, b.parameter_tolerance = a.parameter_tolerance;
+    return run_bundle_adjustment(b);
+  }
   PoseGraphOptimizerOptions o;
   o.init = parse_init_method(a.init);
   o.optimizer.algorithm = parse_algorithm(a.solver);
@@ -180,7 +188,7 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("--parameter-tolerance", args->parameter_tolerance)->capture_default_str();
   cmd->add_option("--linear-solver", args->linear_solver, "auto | cholmod | eigen")->capture_default_str();
   cmd->add_option("--ordering", args->ordering, "auto | amd | metis | nesdis | natural")->capture_default_str();
-  cmd->add_option("--format", args->format, "Input format: auto | g2o | toro | gtsam")->capture_default_str();
+  cmd->add_option("--format", args->format, "Input format: auto | g2o | toro | gtsam | bal")->capture_default_str();
   cmd->add_flag("--repair-information", args->repair_information,
                 "Project information matrices that are not positive definite to the PSD cone");
   cmd->add_flag("--allow-unknown-tags", args->allow_unknown_tags, "Skip unknown tags with a warning");
@@ -189,6 +197,7 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("--config", args->config, "JSON file with any of the options above (flags win)");
   cmd->add_option("--label", args->label, "Name of this run in reports");
   cmd->add_flag("-q,--quiet", args->quiet, "No per-iteration progress");
+  add_bundle_adjustment_options(cmd);
   cmd->callback([cmd, args] { run(*cmd, *args); });
 }
 
