@@ -3,7 +3,7 @@
 # instrumented too) and runs them on a corpus seeded from tests/fuzz/seeds/.
 #
 #   scripts/fuzz.sh [TARGET] [SECONDS]
-#     TARGET   g2o | toro | gtsam | all   (default: all, one after the other)
+#     TARGET   g2o | toro | gtsam | bal | all   (default: all, one after the other)
 #     SECONDS  time per target            (default: 60)
 #
 # The corpus grows in fuzz-corpus/<target>/ (git-ignored); a crash is saved as
@@ -19,9 +19,9 @@ build=${SLAMKIT_FUZZ_BUILD:-$root/build-fuzz}
 jobs=${JOBS:-2}
 
 case "$target" in
-  all) targets=(g2o toro gtsam) ;;
-  g2o | toro | gtsam) targets=("$target") ;;
-  *) echo "usage: $0 [g2o|toro|gtsam|all] [SECONDS]" >&2; exit 2 ;;
+  all) targets=(g2o toro gtsam bal) ;;
+  g2o | toro | gtsam | bal) targets=("$target") ;;
+  *) echo "usage: $0 [g2o|toro|gtsam|bal|all] [SECONDS]" >&2; exit 2 ;;
 esac
 
 if [[ ! -f "$build/CMakeCache.txt" ]]; then
@@ -38,7 +38,7 @@ for t in "${targets[@]}"; do
   cp -n "$root/tests/fuzz/seeds/$t/"* "$corpus/" 2>/dev/null || true
   echo "== fuzz_$t for ${seconds}s, corpus $corpus"
   "$build/fuzz/fuzz_$t" "$corpus" \
-    -dict="$root/tests/fuzz/pose_graph.dict" -max_len=4096 -max_total_time="$seconds" \
+    $([[ $t == bal ]] || echo "-dict=$root/tests/fuzz/pose_graph.dict") -max_len=4096 -max_total_time="$seconds" \
     -print_final_stats=1 -artifact_prefix="$root/fuzz-corpus/crash-$t-" 2>&1 | tee "$root/fuzz-corpus/$t.log" \
     | grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^Done|stat::|ERROR|SUMMARY|property|crash-" || true
   if grep -qE "ERROR: |SUMMARY: |fuzz property violated|deadly signal" "$root/fuzz-corpus/$t.log"; then
