@@ -22,6 +22,8 @@
 #include "bench_data.h"
 #include "slamkit/factors/bundle_adjustment.h"
 #include "slamkit/io/bal_io.h"
+#include "slamkit/linear/normal_equations.h"
+#include "slamkit/linear/schur_complement.h"
 #include "slamkit/linear/blas_runtime.h"
 #include "slamkit/sim/ba_generator.h"
 
@@ -45,6 +47,11 @@ struct BalResidual {
   }
   Eigen::Vector2d z_;
 };
+
+double load_average() {
+  double l[1] = {0};
+  return getloadavg(l, 1) == 1 ? l[0] : -1.0;
+}
 
 double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -103,9 +110,42 @@ nlohmann::json run_slamkit(BalProblem p, const std::string& linear) {
           {"termination", to_string(s.termination)}};
 }
 
+// One bare factorization of the reduced camera system at the start point, for each direct
+// method: S formed from H (Schur elimination) and factorized, and the factorization of S alone
+// (medians of 3), to compare with slamkit's time per iteration.
+nlohmann::json bare_factorization(const BalProblem& p, SchurMethod method) {
+  BundleAdjustmentProblem ba = build_bundle_adjustment_problem(p);
+  const ThreadPool pool(2);
+  EliminationOrder order;
+  order.method = "points first";
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t i = 0; i < ba.values.size(); ++i)
+      if (is_bal_point_key(ba.values.key(i)) == (pass == 0)) order.order.push_back(static_cast<int>(i));
+  NormalEquations ne(ba.graph, ba.values, OrderingMethod::kAuto, &order);
+  ne.linearize(ba.values, pool);
+  ne.set_diagonal_damping(1e-4 * ne.hessian_diagonal());
+  std::vector<char> elim(ne.num_free_variables());
+  for (int k = 0; k < ne.num_free_variables(); ++k) elim[k] = is_bal_point_key(ba.values.key(ne.free_variable(k)));
+  SchurOptions so;
+  so.method = method;
+  SchurComplementSolver solver(elim, pool, so);
+  solver.analyze(ne.hessian());
+  std::vector<double> total, factor;
+  for (int r = 0; r < 3; ++r) {
+    const double t0 = now_s();
+    solver.factorize(ne.hessian());
+    total.push_back(now_s() - t0);
+    factor.push_back(solver.last_factor_time_s());
+  }
+  std::sort(total.begin(), total.end());
+  std::sort(factor.begin(), factor.end());
+  return {{"method", to_string(method)}, {"schur_and_factorize_s", total[1]}, {"factorize_s", factor[1]}};
+}
+
 // Runs fn in a child process; returns its JSON with the child's peak RSS.
 template <class F>
 nlohmann::json in_child(F fn) {
+  std::fflush(stdout);  // the child must not print the parent's buffered lines again
   int fd[2];
   if (pipe(fd) != 0) return {{"error", "pipe"}};
   const pid_t pid = fork();
@@ -138,6 +178,8 @@ nlohmann::json in_child(F fn) {
   wait4(pid, &status, 0, &ru);
   nlohmann::json j = text.empty() ? nlohmann::json{{"error", "child failed"}} : nlohmann::json::parse(text);
   j["peak_rss_mb"] = ru.ru_maxrss / 1024.0;
+  // CPU time of the child (all threads): on a loaded machine a steadier measure of work than wall time.
+  j["cpu_seconds"] = ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
   return j;
 }
 
@@ -147,9 +189,15 @@ int main(int argc, char** argv) {
   reexec_with_better_blas_core(argv);
   const SerialOpenMpScope serial_openmp;  // CHOLMOD's OpenMP regions serial for both (1 BLAS thread)
   std::string only, out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/ba_peer.json", skip_large = "0";
-  if (!bench::parse_options(argc, argv, "[--only SUBSTRING] [--skip-large 1] [--out FILE]",
-                            {{"--only", &only}, {"--skip-large", &skip_large}, {"--out", &out}}))
+  std::string ours_only, ceres_only, bare_only = "1";
+  if (!bench::parse_options(argc, argv,
+                            "[--only SUBSTRING] [--skip-large 1] [--ours a,b] [--ceres A,B] [--bare 0|1] [--out FILE]",
+                            {{"--only", &only}, {"--skip-large", &skip_large}, {"--ours", &ours_only},
+                             {"--ceres", &ceres_only}, {"--bare", &bare_only}, {"--out", &out}}))
     return 2;
+  auto wanted = [](const std::string& list, const std::string& name) {
+    return list.empty() || ("," + list + ",").find("," + name + ",") != std::string::npos;
+  };
   struct Case {
     std::string name;
     std::function<BalProblem()> make;
@@ -185,33 +233,48 @@ int main(int argc, char** argv) {
     std::printf("== %s: %d cameras, %d points, %d observations\n", c.name.c_str(), p.num_cameras(), p.num_points(),
                 p.num_observations());
     nlohmann::json runs = nlohmann::json::array();
-    double best_ceres = 1e300, best_ceres_cost = 0;
+    double best_ceres = 1e300, best_ceres_cost = 0, best_ceres_cpu = 1e300;
     for (const std::string& s : c.ceres) {
+      if (!wanted(ceres_only, s)) continue;
       nlohmann::json j = in_child([&] { return run_ceres(p, s); });
-      std::printf("  %-24s %8.3f s  %3d it  cost %.6e -> %.6e  %7.0f MB  %s\n", j.value("solver", s).c_str(),
-                  j.value("seconds", 0.0), j.value("iterations", 0), j.value("initial_cost", 0.0),
+      std::printf("  %-24s %8.3f s (cpu %8.3f)  %3d it  cost %.6e -> %.6e  %7.0f MB  %s\n", j.value("solver", s).c_str(),
+                  j.value("seconds", 0.0), j.value("cpu_seconds", 0.0), j.value("iterations", 0), j.value("initial_cost", 0.0),
                   j.value("final_cost", 0.0), j.value("peak_rss_mb", 0.0), j.value("error", "").c_str());
       std::fflush(stdout);
       if (j.value("seconds", 1e300) < best_ceres) best_ceres = j["seconds"], best_ceres_cost = j["final_cost"];
+      best_ceres_cpu = std::min(best_ceres_cpu, j.value("cpu_seconds", 1e300));
       runs.push_back(j);
     }
     for (const std::string& s : c.ours) {
+      if (!wanted(ours_only, s)) continue;
       nlohmann::json j = in_child([&] { return run_slamkit(p, s); });
       const double t = j.value("seconds", 0.0);
       j["ratio_vs_fastest_ceres"] = t / best_ceres;
+      j["cpu_ratio_vs_least_cpu_ceres"] = j.value("cpu_seconds", 0.0) / best_ceres_cpu;
       j["cost_vs_fastest_ceres"] = j.value("final_cost", 0.0) / best_ceres_cost - 1.0;
-      std::printf("  %-24s %8.3f s  %3d it  cost %.6e -> %.6e  %7.0f MB  x%.3f of fastest Ceres, cost %+.2e  %s\n",
-                  j.value("solver", s).c_str(), t, j.value("iterations", 0), j.value("initial_cost", 0.0),
-                  j.value("final_cost", 0.0), j.value("peak_rss_mb", 0.0), t / best_ceres,
+      std::printf("  %-24s %8.3f s (cpu %8.3f)  %3d it  cost %.6e -> %.6e  %7.0f MB  x%.3f of fastest Ceres (cpu x%.3f), cost %+.2e  %s\n",
+                  j.value("solver", s).c_str(), t, j.value("cpu_seconds", 0.0), j.value("iterations", 0), j.value("initial_cost", 0.0),
+                  j.value("final_cost", 0.0), j.value("peak_rss_mb", 0.0), t / best_ceres, j.value("cpu_seconds", 0.0) / best_ceres_cpu,
                   j.value("final_cost", 0.0) / best_ceres_cost - 1.0, j.value("error", "").c_str());
       std::fflush(stdout);
       runs.push_back(j);
     }
+    nlohmann::json bare = nlohmann::json::array();
+    for (SchurMethod m : {SchurMethod::kDense, SchurMethod::kCholesky}) {
+      if ((m == SchurMethod::kDense && p.num_cameras() > 400) || bare_only != "1") continue;
+      nlohmann::json b = in_child([&] { return bare_factorization(p, m); });
+      std::printf("  bare %-19s Schur elimination + factorization %.4f s, factorization alone %.4f s\n",
+                  b.value("method", "").c_str(), b.value("schur_and_factorize_s", 0.0), b.value("factorize_s", 0.0));
+      bare.push_back(b);
+    }
     results.push_back({{"problem", c.name},
+                       {"bare_factorization", bare},
                        {"cameras", p.num_cameras()},
                        {"points", p.num_points()},
                        {"observations", p.num_observations()},
                        {"fastest_ceres_seconds", best_ceres},
+                       {"least_ceres_cpu_seconds", best_ceres_cpu},
+                       {"load_average_at_start", load_average()},
                        {"runs", runs}});
   }
   nlohmann::json doc = {{"ceres_version", CERES_VERSION_STRING}, {"threads", 2}, {"function_tolerance", 1e-6},
