@@ -4,7 +4,7 @@
 # that what reads also writes and reads back to the same values (tests/fuzz/*.h, *.cpp).
 #
 #   scripts/fuzz.sh [TARGET] [SECONDS]
-#     TARGET   g2o | toro | gtsam | traj_tum | traj_euroc | traj_kitti | traj_slamkit | sim_spec |
+#     TARGET   g2o | toro | gtsam | bal | traj_tum | traj_euroc | traj_kitti | traj_slamkit | sim_spec |
 #              config | all   (default: all, one after the other)
 #     SECONDS  time per target            (default: 60)
 #
@@ -20,7 +20,7 @@ seconds=${2:-60}
 build=${SLAMKIT_FUZZ_BUILD:-$root/build-fuzz}
 jobs=${JOBS:-2}
 
-all_targets=(g2o toro gtsam traj_tum traj_euroc traj_kitti traj_slamkit sim_spec config)
+all_targets=(g2o toro gtsam bal traj_tum traj_euroc traj_kitti traj_slamkit sim_spec config)
 if [[ "$target" == all ]]; then
   targets=("${all_targets[@]}")
 elif [[ " ${all_targets[*]} " == *" $target "* ]]; then
@@ -34,6 +34,7 @@ dictionary() {
     traj_*) echo trajectory.dict ;;
     sim_spec) echo sim.dict ;;
     config) echo json.dict ;;
+    bal) echo '' ;;
     *) echo pose_graph.dict ;;
   esac
 }
@@ -52,7 +53,7 @@ for t in "${targets[@]}"; do
   cp -n "$root/tests/fuzz/seeds/$t/"* "$corpus/" 2>/dev/null || true
   echo "== fuzz_$t for ${seconds}s, corpus $corpus"
   "$build/fuzz/fuzz_$t" "$corpus" \
-    -dict="$root/tests/fuzz/$(dictionary "$t")" -max_len=4096 -max_total_time="$seconds" \
+    $(d=$(dictionary "$t"); [[ -n $d ]] && echo "-dict=$root/tests/fuzz/$d") -max_len=4096 -max_total_time="$seconds" \
     -print_final_stats=1 -artifact_prefix="$root/fuzz-corpus/crash-$t-" 2>&1 | tee "$root/fuzz-corpus/$t.log" \
     | grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^Done|stat::|ERROR|SUMMARY|property|crash-" || true
   if grep -qE "ERROR: |SUMMARY: |fuzz property violated|deadly signal" "$root/fuzz-corpus/$t.log"; then

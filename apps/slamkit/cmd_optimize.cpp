@@ -7,6 +7,7 @@
 
 #include "calibration_cli.h"
 #include "cli_util.h"
+#include "cmd_optimize_bal.h"
 #include "commands.h"
 #include "optimize_config.h"
 #include "slamkit/core/pose_graph_error.h"
@@ -35,6 +36,13 @@ PoseGraph load(const OptimizeArgs& a, PoseGraphReadReport* report) {
 void run(const CLI::App& cmd, OptimizeArgs a) {
   check_outputs({{&a.output, "--output"}, {&a.json, "--json"}, {&a.trajectory, "--trajectory"}});
   if (!a.config.empty()) read_optimize_config(a.config, a.s, [&cmd](const char* flag) { return cmd.count(flag) > 0; });
+  if (is_bundle_adjustment_input(a.input, a.s.format)) {  // BAL files, sim:ba (cmd_optimize_bal.cpp)
+    BundleAdjustmentCommonArgs b{a.input, a.output, a.json, a.s.robust, a.label, cmd.count("--solver") ? a.s.solver : ""};
+    b.max_iterations = a.s.max_iterations, b.threads = a.s.threads, b.blas_threads = a.s.blas_threads, b.quiet = a.quiet;
+    if (cmd.count("--function-tolerance")) b.function_tolerance = a.s.function_tolerance;
+    b.gradient_tolerance = a.s.gradient_tolerance, b.parameter_tolerance = a.s.parameter_tolerance;
+    return run_bundle_adjustment(b);
+  }
   if (!a.output.empty() && format_from_extension(a.output) == PoseGraphFormat::kAuto)
     throw InputError(a.output, 0, "--output", "cannot tell the output format from the extension (use .g2o, .graph or .txt)");
   PoseGraphOptimizerOptions o;
@@ -146,7 +154,7 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("--parameter-tolerance", args->s.parameter_tolerance)->capture_default_str();
   cmd->add_option("--linear-solver", args->s.linear_solver, "auto | cholmod | eigen")->capture_default_str();
   cmd->add_option("--ordering", args->s.ordering, "auto | amd | metis | nesdis | natural")->capture_default_str();
-  cmd->add_option("--format", args->s.format, "Input format: auto | g2o | toro | gtsam")->capture_default_str();
+  cmd->add_option("--format", args->s.format, "Input format: auto | g2o | toro | gtsam | bal")->capture_default_str();
   cmd->add_flag("--repair-information", args->s.repair_information,
                 "Project information matrices that are not positive definite to the PSD cone");
   cmd->add_flag("--allow-unknown-tags", args->allow_unknown_tags, "Skip unknown tags with a warning");
@@ -158,6 +166,7 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("--config", args->config, "JSON file with any of the options above (flags win)");
   cmd->add_option("--label", args->label, "Name of this run in reports");
   cmd->add_flag("-q,--quiet", args->quiet, "No per-iteration progress");
+  add_bundle_adjustment_options(cmd);
   cmd->callback([cmd, args] { run(*cmd, *args); });
 }
 

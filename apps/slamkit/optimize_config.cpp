@@ -44,7 +44,7 @@ void check_setting(const OptimizeSettings& s, const std::string& key) {
   else if (key == "robust" && !s.robust.empty()) (void)parse_robust_kernel(s.robust);
   else if (key == "linear_solver") (void)parse_sparse_backend(s.linear_solver);
   else if (key == "ordering") (void)parse_ordering(s.ordering);
-  else if (key == "format") (void)parse_pose_graph_format(s.format);
+  else if (key == "format" && s.format != "bal") (void)parse_pose_graph_format(s.format);
   else if (key == "calibrate") (void)parse_calibrate_option(s.calibrate);
   else if (key == "max_iterations") require(s.max_iterations >= 0, "must be a non-negative integer");
   else if (key == "threads") require(s.threads >= 0, "must be a non-negative integer (0: all cores)");

@@ -27,7 +27,7 @@ struct OptimizeSettings {
   std::string linear_solver = "auto";  // auto | cholmod | eigen
   std::string ordering = "auto";       // auto | amd | metis | nesdis | natural
   bool repair_information = false;
-  std::string format = "auto";  // auto | g2o | toro | gtsam
+  std::string format = "auto";  // auto | g2o | toro | gtsam | bal
   std::string calibrate = "auto";  // auto | none | offset,odometry (calibration_cli.h)
 
   bool operator==(const OptimizeSettings& o) const;

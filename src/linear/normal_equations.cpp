@@ -15,7 +15,18 @@ void add_at_b_fixed(const double* a, const double* b, double* dest, int ld) {
   const Eigen::Map<const Eigen::Matrix<double, R, DI>> A(a);
   const Eigen::Map<const Eigen::Matrix<double, R, DJ>> B(b);
   Eigen::Map<Eigen::Matrix<double, DI, DJ>, 0, Eigen::OuterStride<>> D(dest, Eigen::OuterStride<>(ld));
-  D.noalias() += A.transpose() * B;
+  D.noalias() += A.transpose().lazyProduct(B);  // small fixed sizes: no GEMM packing (2×9×9 would use it)
+}
+
+// Two residual rows (reprojection factors): dest(r, c) += a0_r b0_c + a1_r b1_c, written out so
+// that it compiles to straight-line code for the fixed sizes.
+template <int DI, int DJ>
+void add_at_b_rows2(const double* a, const double* b, double* dest, int ld) {
+  for (int c = 0; c < DJ; ++c) {
+    const double b0 = b[2 * c], b1 = b[2 * c + 1];
+    double* d = dest + static_cast<std::ptrdiff_t>(c) * ld;
+    for (int r = 0; r < DI; ++r) d[r] += a[2 * r] * b0 + a[2 * r + 1] * b1;
+  }
 }
 
 void add_at_b(const double* a, const double* b, double* dest, int rows, int di, int dj, int ld) {
@@ -26,6 +37,12 @@ void add_at_b(const double* a, const double* b, double* dest, int rows, int di, 
   if (rows == 2 && di == 2 && dj == 2) return add_at_b_fixed<2, 2, 2>(a, b, dest, ld);
   if (rows == 6 && di == 6 && dj == 1) return add_at_b_fixed<6, 6, 1>(a, b, dest, ld);  // gradients
   if (rows == 3 && di == 3 && dj == 1) return add_at_b_fixed<3, 3, 1>(a, b, dest, ld);
+  // bundle adjustment: 2D reprojection of a 9-parameter camera and a 3D point
+  if (rows == 2 && di == 9 && dj == 3) return add_at_b_rows2<9, 3>(a, b, dest, ld);
+  if (rows == 2 && di == 9 && dj == 9) return add_at_b_rows2<9, 9>(a, b, dest, ld);
+  if (rows == 2 && di == 3 && dj == 3) return add_at_b_rows2<3, 3>(a, b, dest, ld);
+  if (rows == 2 && di == 9 && dj == 1) return add_at_b_rows2<9, 1>(a, b, dest, ld);
+  if (rows == 2 && di == 3 && dj == 1) return add_at_b_rows2<3, 1>(a, b, dest, ld);
   const Eigen::Map<const Eigen::MatrixXd> A(a, rows, di), B(b, rows, dj);
   Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(dest, di, dj, Eigen::OuterStride<>(ld));
   D.noalias() += A.transpose() * B;

@@ -52,8 +52,19 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   s.threads = pool.threads();
   s.thread_backend = ThreadPool::backend();
 
-  NormalEquations ne(graph, values, options_.ordering,
-                     options_.variable_order.order.empty() ? nullptr : &options_.variable_order);
+  // Schur complement: the eliminated variables first (then every one precedes its neighbours).
+  EliminationOrder schur_order;
+  const bool schur = static_cast<bool>(options_.schur_eliminate);
+  if (schur && options_.variable_order.order.empty()) {
+    schur_order.method = "Schur (eliminated first)";
+    for (int pass = 0; pass < 2; ++pass)
+      for (std::size_t i = 0; i < values.size(); ++i)
+        if (options_.schur_eliminate(values.key(i)) == (pass == 0)) schur_order.order.push_back(static_cast<int>(i));
+  }
+  const EliminationOrder* order = !options_.variable_order.order.empty() ? &options_.variable_order
+                                  : schur                                ? &schur_order
+                                                                         : nullptr;
+  NormalEquations ne(graph, values, options_.ordering, order);
   s.num_variables = static_cast<int>(values.size());
   s.num_fixed = static_cast<int>(values.num_fixed());
   s.num_factors = static_cast<int>(graph.size());
@@ -64,7 +75,20 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   const BlasRuntime blas = blas_runtime();
   s.blas = blas.core.empty() ? blas.vendor : blas.vendor + " " + blas.core;
   s.blas_better_core = better_openblas_core();
-  auto chol = make_sparse_cholesky(options_.linear_solver, options_.ordering, s.blas_threads);
+  std::unique_ptr<SparseCholesky> chol;
+  SchurComplementSolver* schur_solver = nullptr;
+  if (schur) {
+    std::vector<char> eliminate(ne.num_free_variables());
+    for (int k = 0; k < ne.num_free_variables(); ++k)
+      eliminate[k] = options_.schur_eliminate(values.key(ne.free_variable(k))) ? 1 : 0;
+    SchurOptions so = options_.schur;
+    so.blas_threads = s.blas_threads;
+    auto solver = std::make_unique<SchurComplementSolver>(std::move(eliminate), pool, so);
+    schur_solver = solver.get();
+    chol = std::move(solver);
+  } else {
+    chol = make_sparse_cholesky(options_.linear_solver, options_.ordering, s.blas_threads);
+  }
   s.linear_solver_is_fallback = chol->is_fallback();
   s.time_setup_s = now_s() - t_start;
   chol->analyze(ne.hessian());  // H is stored in elimination order
@@ -223,6 +247,7 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
     s.message += "; returned the best iterate seen";
   }
   s.final_cost = cost;
+  if (schur_solver) s.pcg_iterations = schur_solver->total_pcg_iterations();
   values = std::move(x);
   s.time_total_s = now_s() - t_start;
   return s;

@@ -85,6 +85,7 @@ std::string Summary::report() const {
   os << format("  cost (chi2)      initial %.10g -> final %.10g (%.3g%% of initial)\n", initial_cost, final_cost,
                initial_cost > 0 ? 100.0 * final_cost / initial_cost : 0.0);
   os << format("  iterations       %d (%d accepted), %d linear solves\n", iterations, accepted_steps, linear_solves);
+  if (pcg_iterations > 0) os << format("  PCG              %ld conjugate-gradient iterations in all\n", pcg_iterations);
   if (fallback_iteration > 0)
     os << format("  fallback         Gauss-Newton made no progress for %d steps: continued with LM from the best "
                  "iterate at iteration %d\n",
@@ -104,6 +105,7 @@ std::string Summary::to_json() const {
   j["kind"] = "optimize";
   j["solver"] = to_string(options.algorithm);
   j["linear_solver"] = linear_solver;
+  j["pcg_iterations"] = pcg_iterations;
   j["linear_solver_fallback"] = linear_solver_is_fallback;
   j["ordering"] = ordering;
   j["threads"] = threads;

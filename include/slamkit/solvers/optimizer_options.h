@@ -5,6 +5,8 @@
 #include <functional>
 #include <string>
 
+#include "slamkit/core/key.h"
+#include "slamkit/linear/schur_complement.h"
 #include "slamkit/linear/sparse_cholesky.h"
 
 namespace slamkit {
@@ -65,6 +67,11 @@ struct OptimizerOptions {
   /// Elimination order over Values indices (variables not free are skipped); empty: computed
   /// from the problem with `ordering`.
   EliminationOrder variable_order;
+  /// Schur complement (linear/schur_complement.h): the variables for which this returns true
+  /// (e.g. the landmarks of bundle adjustment) are eliminated first and the reduced system is
+  /// solved with `schur`. Empty: the whole system goes to the sparse Cholesky.
+  std::function<bool(Key)> schur_eliminate;
+  SchurOptions schur;
 
   /// Called after every iteration (including rejected steps); return false to stop.
   std::function<bool(const IterationSummary&)> callback;

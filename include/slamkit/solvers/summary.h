@@ -58,6 +58,7 @@ struct Summary {
   int iterations = 0;  ///< iterations performed (accepted + rejected steps)
   int accepted_steps = 0;
   int linear_solves = 0;
+  long pcg_iterations = 0;     ///< conjugate-gradient iterations (Schur complement with PCG), 0 otherwise
   int fallback_iteration = 0;  ///< Gauss-Newton switched to LM at this iteration (0: never)
   Termination termination = Termination::kMaxIterations;
   std::string message;  ///< details on termination or failure
