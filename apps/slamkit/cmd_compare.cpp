@@ -17,7 +17,7 @@ namespace slamkit::cli {
 namespace {
 
 struct CompareArgs {
-  std::string input, solvers = "gn,lm,tr-lm,dogleg,sgd,toro,relax,mlr", init = "odometry", json, plot, format = "auto";
+  std::string input, solvers = "gn,lm,tr-lm,dogleg,sgd,toro,relax,mlr,hogman", init = "odometry", json, plot, format = "auto";
   double time_budget = 10.0;
   int max_iterations = 1000, threads = 1;
 };
@@ -118,7 +118,7 @@ void add_compare_command(CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
   CLI::App* cmd = app.add_subcommand("compare", "Run several pose-graph back ends from the same start and rank them");
   cmd->add_option("file", args->input, "Pose-graph file or sim:NAME")->required();
-  cmd->add_option("--solvers", args->solvers, "Comma-separated: gn,lm,tr-lm,dogleg,sgd,toro,relax,mlr")
+  cmd->add_option("--solvers", args->solvers, "Comma-separated: gn,lm,tr-lm,dogleg,sgd,toro,relax,mlr,hogman")
       ->capture_default_str();
   cmd->add_option("--init", args->init, "Start of every back end: odometry | spanning-tree | auto | zero | none")
       ->capture_default_str();

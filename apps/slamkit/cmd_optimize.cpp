@@ -7,6 +7,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "optimize_hogman.h"
 #include "slamkit/core/pose_graph_error.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/io/pose_graph_io.h"
@@ -75,6 +76,10 @@ PoseGraph load(const OptimizeArgs& a, PoseGraphReadReport* report) {
 
 void run(const CLI::App& cmd, OptimizeArgs a) {
   if (!a.config.empty()) apply_config(a.config, cmd, a);
+  if (a.solver == "hogman") {  // the hierarchical back end (optimize_hogman.cpp)
+    PoseGraph g = load(a, nullptr);
+    return run_hogman_optimize(g, {a.input, a.json, a.output, a.trajectory, a.label, a.quiet, a.threads > 0 ? a.threads : 1});
+  }
   PoseGraphOptimizerOptions o;
   o.init = parse_init_method(a.init);
   o.optimizer.algorithm = parse_algorithm(a.solver);
@@ -164,8 +169,8 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("file", args->input, "Pose-graph file, or a built-in generated graph: sim:sphere, sim:manhattan")
       ->required();
   cmd->add_option("-o,--output", args->output, "Write the optimized graph (format from the extension)");
-  cmd->add_option("--solver", args->solver, "gn | lm | tr-lm | dogleg")->capture_default_str();
-  cmd->add_option("--init", args->init, "none | odometry | spanning-tree | linear | chordal | auto")
+  cmd->add_option("--solver", args->solver, "gn | lm | tr-lm | dogleg | hogman")->capture_default_str();
+  cmd->add_option("--init", args->init, "none | odometry | spanning-tree | linear | chordal | auto | sgd | toro | relax | mlr")
       ->capture_default_str();
   cmd->add_option("--max-iterations", args->max_iterations, "Iteration limit")->capture_default_str();
   cmd->add_option("--robust", args->robust, "Robust kernel on the edges, KERNEL:delta (huber, cauchy, tukey, "

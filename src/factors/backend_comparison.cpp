@@ -6,6 +6,7 @@
 
 #include "slamkit/core/error.h"
 #include "slamkit/core/pose_graph_error.h"
+#include "slamkit/factors/hogman.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/solvers/relaxer_init.h"
 
@@ -49,7 +50,10 @@ BackendRun run_relaxer_backend(PoseGraph g, const std::string& solver, const Com
   stop.max_iterations = o.max_iterations;
   stop.time_budget_s = o.time_budget_s;
   stop.relative_tolerance = 1e-9;  // let the slow ones run until the budget
-  const RelaxerSummary s = run_named_relaxer(g, solver, stop);
+  HogmanOptions h;
+  h.stop = stop;
+  h.threads = o.threads;
+  const RelaxerSummary s = solver == "hogman" ? optimize_hogman(g, h) : run_named_relaxer(g, solver, stop);
   BackendRun run;
   run.solver = solver;
   run.initial_chi2 = s.initial_chi2;
@@ -88,9 +92,9 @@ Comparison compare_backends(const PoseGraph& g, const ComparisonOptions& o) {
   if (!(o.time_budget_s > 0)) throw InputError("", 0, "time-budget", "must be > 0 seconds");
   if (o.solvers.empty()) throw InputError("", 0, "solvers", "no back end named");
   for (const std::string& s : o.solvers)
-    if (!is_manifold_solver(s) && s != "sgd" && s != "toro" && s != "relax" && s != "mlr")
+    if (!is_manifold_solver(s) && s != "sgd" && s != "toro" && s != "relax" && s != "mlr" && s != "hogman")
       throw InputError("", 0, "solvers",
-                       "unknown back end '" + s + "' (gn, lm, tr-lm, dogleg, sgd, toro, relax, mlr)");
+                       "unknown back end '" + s + "' (gn, lm, tr-lm, dogleg, sgd, toro, relax, mlr, hogman)");
   Comparison c;
   c.file = g.source;
   c.dimension = g.dimension();

@@ -112,6 +112,8 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
     RelaxerIteration it;
     it.iteration = k;
     it.step = step(k);
+    const bool done = it.step < 0;  // the method has nothing left to do
+    if (done) it.step = 0;
     write_back();
     it.chi2 = total_chi2(g);
     it.time_s = elapsed();
@@ -136,7 +138,7 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
       s.termination = "converged";
       break;
     }
-    if (flat >= stop.patience) {
+    if (done || flat >= stop.patience) {
       s.termination = "converged";
       break;
     }

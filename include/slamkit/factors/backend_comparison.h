@@ -1,5 +1,5 @@
 // Every pose-graph back end side by side (`slamkit compare`): the manifold solvers (gn, lm,
-// tr-lm, dogleg) and the relaxers (sgd, toro, relax, mlr) each run from the same start on a
+// tr-lm, dogleg), the relaxers (sgd, toro, relax, mlr) and HOG-Man each run from the same start on a
 // copy of the graph, with chi2 (g2o definition) recorded against wall time and iterations.
 // The ranking orders the runs by final chi2, then by the time they first came within
 // `reach_tolerance` of the best chi2 any of them found.
@@ -23,7 +23,7 @@ struct BackendRun {
 };
 
 struct ComparisonOptions {
-  std::vector<std::string> solvers{"gn", "lm", "tr-lm", "dogleg", "sgd", "toro", "relax", "mlr"};
+  std::vector<std::string> solvers{"gn", "lm", "tr-lm", "dogleg", "sgd", "toro", "relax", "mlr", "hogman"};
   /// Start for every back end: odometry | spanning-tree | auto | zero | none (the file's estimates).
   std::string init = "odometry";
   double time_budget_s = 10.0;   ///< per back end (> 0)

@@ -69,7 +69,7 @@ struct RelaxerGraph {
 RelaxerGraph make_relaxer_graph(const PoseGraph& g);
 
 /// Runs the bookkeeping every relaxer shares: records iteration 0, calls `step(iteration)`
-/// (which returns the max parameter change) until a stopping rule fires, records chi2 and time
+/// (which returns the max parameter change, or a negative number when the method is done) until a stopping rule fires, records chi2 and time
 /// after each, and fills the summary. A non-finite chi2 stops the run with an error message
 /// (never returned as a result): the estimates of the last finite iterate are restored.
 RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const RelaxerStop& stop,

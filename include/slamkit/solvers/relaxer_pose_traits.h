@@ -21,6 +21,7 @@ struct RelaxerPose<3> {
   static Pose& pose(GraphVertex& v) { return v.pose2; }
   static const Pose& pose(const GraphVertex& v) { return v.pose2; }
   static const Pose& measurement(const GraphEdge& e) { return e.pose2; }
+  static Pose& measurement_ref(GraphEdge& e) { return e.pose2; }
   static Vec error(const Pose& Z, const Pose& a, const Pose& b, Mat* Ja, Mat* Jb) {
     return pose2_edge_error(Z, a, b, Ja, Jb);
   }
@@ -34,6 +35,7 @@ struct RelaxerPose<6> {
   static Pose& pose(GraphVertex& v) { return v.pose3; }
   static const Pose& pose(const GraphVertex& v) { return v.pose3; }
   static const Pose& measurement(const GraphEdge& e) { return e.pose3; }
+  static Pose& measurement_ref(GraphEdge& e) { return e.pose3; }
   static Vec error(const Pose& Z, const Pose& a, const Pose& b, Mat* Ja, Mat* Jb) {
     return pose3_edge_error(Z, a, b, Ja, Jb);
   }
