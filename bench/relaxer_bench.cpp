@@ -164,7 +164,8 @@ int main(int argc, char** argv) {
   }
   if (parts.find("online") != std::string::npos) {
     json runs = json::array();
-    runs.push_back(hogman_online_run("2d/city10000.g2o", 511.985, "docs/figures/hogman_online_city10000.svg"));
+    if (parts.find("online-3d") == std::string::npos)
+      runs.push_back(hogman_online_run("2d/city10000.g2o", 511.985, "docs/figures/hogman_online_city10000.svg"));
     runs.push_back(hogman_online_run("3d/sphere2500.g2o", 727.149, "docs/figures/hogman_online_sphere2500.svg"));
     j["hogman_online"] = runs;
   }
