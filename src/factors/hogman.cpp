@@ -52,6 +52,7 @@ class Hierarchy {
       L.members.back().push_back(idx);
       L.group.push_back(static_cast<int>(L.members.size()) - 1);
       L.dirty_groups.insert(L.group.back());
+      L.stale.insert(L.group.back());
     }
   }
 
@@ -67,6 +68,8 @@ class Hierarchy {
     L.incident[b].push_back(k);
     if (l + 1 >= num_levels()) return false;
     const int ga = L.group[a], gb = L.group[b];
+    L.stale.insert(ga);
+    L.stale.insert(gb);
     if (ga == gb) {
       L.intra[ga].push_back(k);
       L.dirty_groups.insert(ga);
@@ -111,7 +114,9 @@ class Hierarchy {
 
   // Moves every group rigidly with its representative, from the top down, and refines the
   // groups whose representative moved.
-  void propagate_down(bool solve_levels) {
+  // refine_stale: also refine the groups that received nodes or edges since their last
+  // refinement (online: the new data); batch refines only where the coarse solution moved.
+  void propagate_down(bool solve_levels, bool refine_stale) {
     for (int l = num_levels() - 2; l >= 0; --l) {
       Level& L = levels_[l];
       const PoseGraph& C = *levels_[l + 1].graph;
@@ -121,7 +126,10 @@ class Hierarchy {
         const Pose rep = T::pose(L.graph->vertices()[m[0]]);
         const Pose& target = T::pose(C.vertices()[gi]);
         const Vec change = rep.between(target).log();
-        if (!(change.cwiseAbs().maxCoeff() > o_.refine_threshold)) continue;
+        if (!(change.cwiseAbs().maxCoeff() > o_.refine_threshold)) {
+          if (refine_stale && L.stale.count(static_cast<int>(gi))) moved.push_back(static_cast<int>(gi));
+          continue;
+        }
         const Pose delta = target * rep.inverse();
         for (int k : m) {
           Pose& x = T::pose(L.graph->vertex_at(k));
@@ -130,8 +138,10 @@ class Hierarchy {
         T::pose(L.graph->vertex_at(m[0])) = target;
         moved.push_back(static_cast<int>(gi));
       }
-      for (int gi : moved)  // ... then the refinements, against moved neighbours
-        if (L.members[gi].size() > 1) refine_group(l, gi);
+      for (int sweep = 0; sweep < o_.refine_sweeps; ++sweep)  // ... then block Gauss-Seidel over the moved groups
+        for (int gi : moved)
+          if (L.members[gi].size() > 1) refine_group(l, gi);
+      L.stale.clear();
       if (solve_levels && l > 0) solve_level(l, InitMethod::kNone);  // batch: the small levels in full
     }
   }
@@ -147,6 +157,7 @@ class Hierarchy {
     std::map<std::pair<int, int>, std::vector<int>> inter;  // group pair → edges between them
     std::map<std::pair<int, int>, int> condensed;           // group pair → edge of level l + 1
     std::set<int> dirty_groups;
+    std::set<int> stale;  // groups that received a node or an edge since their last refinement
     std::set<std::pair<int, int>> dirty_pairs;
   };
 
@@ -307,8 +318,10 @@ int levels_for(std::size_t n, const HogmanOptions& o) {
 }
 
 void check_options(const HogmanOptions& o) {
-  if (o.group_size < 2 || o.max_levels < 0 || o.top_nodes < 1 || o.local_iterations < 1 || o.top_iterations < 1)
-    throw InputError("", 0, "hogman", "group_size ≥ 2, max_levels ≥ 0, top_nodes, local_iterations, top_iterations ≥ 1");
+  if (o.group_size < 2 || o.max_levels < 0 || o.top_nodes < 1 || o.local_iterations < 1 || o.top_iterations < 1 ||
+      o.refine_sweeps < 1)
+    throw InputError("", 0, "hogman",
+                     "group_size ≥ 2, max_levels ≥ 0, top_nodes, local_iterations, top_iterations, refine_sweeps ≥ 1");
 }
 
 // Vertices in id order, and per vertex the edges whose later end it is.
@@ -333,7 +346,7 @@ double hierarchy_pass(PoseGraph& g, const HogmanOptions& o) {
   for (const GraphEdge& e : g.edges) h.add_edge(0, e);
   h.update_condensation();
   h.solve_top(o.top_init);
-  h.propagate_down(false);
+  h.propagate_down(false, false);
   copy_poses<D>(h.fine(), g);
   return 1.0;
 }
@@ -370,10 +383,8 @@ HogmanOnlineResult online(PoseGraph& g, const HogmanOptions& o) {
     bool loop = false;
     for (int e : arriving[k]) loop |= h.add_edge(0, g.edges[e]);
     loop |= h.update_condensation();
-    if (loop) {
-      h.solve_top(InitMethod::kNone);
-      h.propagate_down(false);
-    }
+    if (loop) h.solve_top(InitMethod::kNone);
+    h.propagate_down(false, true);  // moved groups, and those that received this pose or its edges
     r.time_per_pose_s.push_back(seconds_since(t0));
     r.graph_size.push_back(static_cast<int>(k + 1));
     r.top_solved.push_back(loop);

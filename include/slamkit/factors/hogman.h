@@ -34,6 +34,7 @@ struct HogmanOptions {
   int max_levels = 3;             ///< coarse levels above the pose graph
   int top_nodes = 64;             ///< stop adding levels once a level has at most this many nodes
   int local_iterations = 3;       ///< Gauss-Newton iterations of a condensation or a group refinement
+  int refine_sweeps = 1;          ///< Gauss-Seidel sweeps over the moved groups at each level
   double refine_threshold = 1e-4; ///< max |Log(x_old⁻¹ x_new)| of a representative that triggers refinement
   InitMethod top_init = InitMethod::kAuto;  ///< initialization of the coarsest graph (batch)
   int top_iterations = 20;        ///< Gauss-Newton iterations on the coarsest graph
