@@ -133,7 +133,7 @@ json hogman_online_run(const std::string& file, double best, const std::string& 
 
 int main(int argc, char** argv) {
   std::string out = "bench/results/relaxers.json", budget_s = "10", parts = "budget,init";
-  if (!bench::parse_options(argc, argv, "[--budget S] [--parts budget,init,hogman,online] [--out FILE]",
+  if (!bench::parse_options(argc, argv, "[--budget S] [--parts budget,init,hogman,online|online-2d|online-3d] [--out FILE]",
                             {{"--budget", &budget_s}, {"--out", &out}, {"--parts", &parts}}))
     return 2;
   const double budget = std::stod(budget_s);
@@ -166,7 +166,8 @@ int main(int argc, char** argv) {
     json runs = json::array();
     if (parts.find("online-3d") == std::string::npos)
       runs.push_back(hogman_online_run("2d/city10000.g2o", 511.985, "docs/figures/hogman_online_city10000.svg"));
-    runs.push_back(hogman_online_run("3d/sphere2500.g2o", 727.149, "docs/figures/hogman_online_sphere2500.svg"));
+    if (parts.find("online-2d") == std::string::npos)
+      runs.push_back(hogman_online_run("3d/sphere2500.g2o", 727.149, "docs/figures/hogman_online_sphere2500.svg"));
     j["hogman_online"] = runs;
   }
   std::ofstream f(out);

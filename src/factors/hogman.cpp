@@ -107,7 +107,7 @@ class Hierarchy {
     PoseGraphOptimizerOptions po;
     po.init = init;
     po.optimizer.algorithm = Algorithm::kGaussNewton;
-    po.optimizer.max_iterations = o_.top_iterations;
+    po.optimizer.max_iterations = l + 1 == num_levels() ? o_.top_iterations : o_.level_iterations;
     po.optimizer.num_threads = o_.threads;
     optimize_pose_graph(top, po);
   }
@@ -142,7 +142,7 @@ class Hierarchy {
         for (int gi : moved)
           if (L.members[gi].size() > 1) refine_group(l, gi);
       L.stale.clear();
-      if (solve_levels && l > 0) solve_level(l, InitMethod::kNone);  // batch: the small levels in full
+      if (solve_levels && l > 0) solve_level(l, InitMethod::kNone);  // the intermediate levels as a whole
     }
   }
 
@@ -384,7 +384,9 @@ HogmanOnlineResult online(PoseGraph& g, const HogmanOptions& o) {
     for (int e : arriving[k]) loop |= h.add_edge(0, g.edges[e]);
     loop |= h.update_condensation();
     if (loop) h.solve_top(InitMethod::kNone);
-    h.propagate_down(false, true);  // moved groups, and those that received this pose or its edges
+    // Moved groups, and those that received this pose or its edges; after a loop closure the
+    // intermediate levels get a few Gauss-Newton iterations as a whole.
+    h.propagate_down(loop && o.online_level_iterations, true);
     r.time_per_pose_s.push_back(seconds_since(t0));
     r.graph_size.push_back(static_cast<int>(k + 1));
     r.top_solved.push_back(loop);

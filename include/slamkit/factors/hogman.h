@@ -38,6 +38,8 @@ struct HogmanOptions {
   double refine_threshold = 1e-4; ///< max |Log(x_old⁻¹ x_new)| of a representative that triggers refinement
   InitMethod top_init = InitMethod::kAuto;  ///< initialization of the coarsest graph (batch)
   int top_iterations = 20;        ///< Gauss-Newton iterations on the coarsest graph
+  int level_iterations = 2;       ///< Gauss-Newton iterations on an intermediate level (online)
+  bool online_level_iterations = false;  ///< online: after a loop closure, also iterate the intermediate levels
   int threads = 1;
 };
 
