@@ -10,6 +10,7 @@
 #include "cmd_optimize_bal.h"
 #include "commands.h"
 #include "optimize_config.h"
+#include "optimize_hogman.h"
 #include "slamkit/core/pose_graph_error.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/io/pose_graph_io.h"
@@ -42,6 +43,10 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
     if (cmd.count("--function-tolerance")) b.function_tolerance = a.s.function_tolerance;
     b.gradient_tolerance = a.s.gradient_tolerance, b.parameter_tolerance = a.s.parameter_tolerance;
     return run_bundle_adjustment(b);
+  }
+  if (a.s.solver == "hogman") {  // the hierarchical back end (optimize_hogman.cpp)
+    PoseGraph g = load(a, nullptr);
+    return run_hogman_optimize(g, {a.input, a.json, a.output, a.trajectory, a.label, a.quiet, a.s.threads > 0 ? a.s.threads : 1});
   }
   if (!a.output.empty() && format_from_extension(a.output) == PoseGraphFormat::kAuto)
     throw InputError(a.output, 0, "--output", "cannot tell the output format from the extension (use .g2o, .graph or .txt)");
@@ -138,8 +143,8 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("file", args->input, "Pose-graph file, or a built-in generated graph: sim:sphere, sim:manhattan")
       ->required();
   cmd->add_option("-o,--output", args->output, "Write the optimized graph (format from the extension)");
-  cmd->add_option("--solver", args->s.solver, "gn | lm | tr-lm | dogleg")->capture_default_str();
-  cmd->add_option("--init", args->s.init, "none | odometry | spanning-tree | linear | chordal | auto")
+  cmd->add_option("--solver", args->s.solver, "gn | lm | tr-lm | dogleg | hogman")->capture_default_str();
+  cmd->add_option("--init", args->s.init, "none | odometry | spanning-tree | linear | chordal | auto | sgd | toro | relax | mlr")
       ->capture_default_str();
   cmd->add_option("--max-iterations", args->s.max_iterations, "Iteration limit")->capture_default_str();
   cmd->add_option("--robust", args->s.robust, "Robust kernel on the edges, KERNEL:delta (huber, cauchy, tukey, "

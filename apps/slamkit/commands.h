@@ -13,6 +13,7 @@ void add_info_command(CLI::App& app);     // cmd_info.cpp
 void add_convert_command(CLI::App& app);  // cmd_convert.cpp
 // optimizer (issue: graph optimization)
 void add_optimize_command(CLI::App& app);  // cmd_optimize.cpp: optimize FILE
+void add_compare_command(CLI::App& app);   // cmd_compare.cpp: compare FILE --solvers ...
 // evaluation and reports (issue: trajectory evaluation)
 void add_eval_command(CLI::App& app);    // cmd_eval.cpp: eval ate|rpe
 void add_report_command(CLI::App& app);  // cmd_report.cpp: report RUN.json... -o report.html

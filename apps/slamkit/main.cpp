@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   slamkit::cli::add_convert_command(app);
   // optimizer
   slamkit::cli::add_optimize_command(app);
+  slamkit::cli::add_compare_command(app);
   // evaluation and reports
   slamkit::cli::add_eval_command(app);
   slamkit::cli::add_report_command(app);

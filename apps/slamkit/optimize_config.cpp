@@ -39,7 +39,7 @@ void check_setting(const OptimizeSettings& s, const std::string& key) {
   auto require = [&](bool ok, const char* what) {
     if (!ok) throw InputError("", 0, key, what);
   };
-  if (key == "solver") (void)parse_algorithm(s.solver);
+  if (key == "solver" && s.solver != "hogman") (void)parse_algorithm(s.solver);
   else if (key == "init") (void)parse_init_method(s.init);
   else if (key == "robust" && !s.robust.empty()) (void)parse_robust_kernel(s.robust);
   else if (key == "linear_solver") (void)parse_sparse_backend(s.linear_solver);

@@ -14,8 +14,8 @@
 namespace slamkit::cli {
 
 struct OptimizeSettings {
-  std::string solver = "gn";             // gn | lm | tr-lm | dogleg
-  std::string init = "auto";             // none | odometry | spanning-tree | linear | chordal | auto
+  std::string solver = "gn";             // gn | lm | tr-lm | dogleg | hogman
+  std::string init = "auto";             // none | odometry | spanning-tree | linear | chordal | auto | sgd | toro | relax | mlr
   std::string robust;                    // KERNEL:delta, empty for none
   bool robust_loop_closures_only = false;
   int max_iterations = 100;

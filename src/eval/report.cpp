@@ -223,6 +223,45 @@ OptimizeRunData optimize_run_from_json(const json& j, const std::string& source)
   return d;
 }
 
+std::vector<OptimizeRunData> compare_runs_from_json(const json& j, const std::string& source) {
+  if (!j.contains("runs") || !j.at("runs").is_array()) throw InputError(source, 0, "runs", "missing or not an array");
+  const std::string file = opt_text(j, "file", source);
+  std::vector<OptimizeRunData> out;
+  const json& runs = j.at("runs");
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const json& r = runs[k];
+    const std::string field = "runs[" + std::to_string(k) + "]";
+    if (!r.is_object()) throw InputError(source, 0, field, "not an object");
+    OptimizeRunData d;
+    d.source = source;
+    d.solver = opt_text(r, "solver", source);
+    if (d.solver.empty()) throw InputError(source, 0, field + ".solver", "missing");
+    d.label = d.solver + (file.empty() ? "" : " on " + std::filesystem::path(file).filename().string());
+    d.init = opt_text(j, "init", source);
+    d.termination = opt_text(r, "termination", source);
+    d.initial_chi2 = opt_number(r, "initial_chi2", source);
+    d.final_chi2 = opt_number(r, "final_chi2", source);
+    d.time_total_s = opt_number(r, "time_total_s", source);
+    if (r.contains("iterations") && r.at("iterations").is_number_integer()) d.iterations = r.at("iterations").get<long long>();
+    if (!r.contains("trace") || !r.at("trace").is_array()) throw InputError(source, 0, field + ".trace", "missing or not an array");
+    const json& trace = r.at("trace");
+    for (std::size_t i = 0; i < trace.size(); ++i) {
+      const json& e = trace[i];
+      if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number())
+        throw InputError(source, 0, field + ".trace[" + std::to_string(i) + "]", "expected [time_s, chi2]");
+      OptimizeRunData::TraceEntry t;
+      t.iteration = static_cast<double>(i);
+      t.time_s = e[0].get<double>();
+      t.cost = e[1].get<double>();
+      if (!std::isfinite(*t.time_s) || !std::isfinite(t.cost))
+        throw InputError(source, 0, field + ".trace[" + std::to_string(i) + "]", "not finite");
+      d.trace.push_back(t);
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
 std::string render_html_report(const std::vector<ReportInput>& inputs, const ReportOptions& options) {
   if (inputs.empty()) throw InputError("", 0, "", "report: no input runs");
   // Eval runs are grouped by metric and pose relation, so one table/axis never mixes units.
@@ -232,7 +271,7 @@ std::string render_html_report(const std::vector<ReportInput>& inputs, const Rep
   for (const auto& in : inputs) {
     const json& j = in.document;
     if (!j.is_object() || !j.contains("kind") || !j.at("kind").is_string())
-      throw InputError(in.path, 0, "kind", "missing: expected \"ate\", \"rpe\" or \"optimize\"");
+      throw InputError(in.path, 0, "kind", "missing: expected \"ate\", \"rpe\", \"optimize\" or \"compare\"");
     const std::string kind = j.at("kind").get<std::string>();
     if (kind == "ate" || kind == "rpe") {
       EvalRunData d = eval_run_from_json(j, in.path);
@@ -243,8 +282,10 @@ std::string render_html_report(const std::vector<ReportInput>& inputs, const Rep
       g->second.push_back(std::move(d));
     } else if (kind == "optimize") {
       opt.push_back(optimize_run_from_json(j, in.path));
+    } else if (kind == "compare") {  // one optimizer run per back end (slamkit compare --json)
+      for (OptimizeRunData& d : compare_runs_from_json(j, in.path)) opt.push_back(std::move(d));
     } else {
-      throw InputError(in.path, 0, "kind", "unknown kind \"" + kind + "\" (expected ate, rpe or optimize)");
+      throw InputError(in.path, 0, "kind", "unknown kind \"" + kind + "\" (expected ate, rpe, optimize or compare)");
     }
   }
   // APE sections first, then RPE, each in order of first appearance.

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "slamkit/core/error.h"
+#include "slamkit/solvers/relaxer_init.h"
 
 namespace slamkit {
 namespace {
@@ -319,15 +320,20 @@ const char* to_string(InitMethod m) {
     case InitMethod::kLinear: return "linear";
     case InitMethod::kChordal: return "chordal";
     case InitMethod::kAuto: return "auto";
+    case InitMethod::kSgd: return "sgd";
+    case InitMethod::kToro: return "toro";
+    case InitMethod::kRelax: return "relax";
+    case InitMethod::kMlr: return "mlr";
   }
   return "?";
 }
 
 InitMethod parse_init_method(const std::string& s) {
   for (auto m : {InitMethod::kNone, InitMethod::kOdometry, InitMethod::kSpanningTree, InitMethod::kLinear,
-                 InitMethod::kChordal, InitMethod::kAuto})
+                 InitMethod::kChordal, InitMethod::kAuto, InitMethod::kSgd, InitMethod::kToro, InitMethod::kRelax,
+                 InitMethod::kMlr})
     if (s == to_string(m)) return m;
-  throw InputError("", 0, "init", "unknown initialization '" + s + "' (none, odometry, spanning-tree, linear, chordal, auto)");
+  throw InputError("", 0, "init", "unknown initialization '" + s + "' (none, odometry, spanning-tree, linear, chordal, auto, sgd, toro, relax, mlr)");
 }
 
 InitSummary initialize_pose_graph(PoseGraph& g, InitMethod method, const std::vector<std::int64_t>& gauge,
@@ -347,7 +353,9 @@ InitSummary initialize_pose_graph(PoseGraph& g, InitMethod method, const std::ve
   if (method == InitMethod::kChordal && dim != 3)
     throw InputError(g.source, 0, "init", "chordal initialization is for 3D graphs; use linear in 2D");
 
-  if (method == InitMethod::kOdometry) {
+  if (is_relaxer_init(method)) {
+    s.notes = relaxer_initialize(g, method);
+  } else if (method == InitMethod::kOdometry) {
     for (std::size_t i = 0; i < g.vertices().size(); ++i) g.vertex_at(i).has_estimate = false;
     for (std::int64_t id : gauge) g.vertex_at(*g.index_of(id)).has_estimate = true;
     complete_estimates_by_odometry(g);

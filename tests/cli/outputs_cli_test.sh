@@ -33,6 +33,14 @@ done
 "$slamkit" report "$work/ate.json" -o /no/such/dir/r.html >"$work/out.txt" 2>&1 && fail "report to a missing dir succeeded"
 grep -q "/no/such/dir/r.html" "$work/out.txt" || fail "report message: $(cat "$work/out.txt")"
 
+for opt in "--json" "--plot"; do
+  "$slamkit" compare "$big" "$opt" /no/such/dir/c >"$work/out.txt" 2>&1 && fail "compare $opt to a missing dir succeeded"
+  grep -q "rank" "$work/out.txt" && fail "compare $opt ran before the output check"
+done
+"$slamkit" optimize 'sim:ba?cameras=20&points=200' --ply /no/such/dir/p.ply >"$work/out.txt" 2>&1 && fail "--ply to a missing dir succeeded"
+grep -q "/no/such/dir/p.ply" "$work/out.txt" || fail "--ply message: $(cat "$work/out.txt")"
+grep -q "iter" "$work/out.txt" && fail "bundle adjustment ran before the --ply check"
+
 # 2. An empty graph says that it is empty.
 : >"$work/empty.g2o"
 "$slamkit" optimize "$work/empty.g2o" >"$work/out.txt" 2>&1 && fail "empty graph optimized"

@@ -1,7 +1,7 @@
 // `slamkit report`: one self-contained HTML page comparing several runs side by side.
 //
-// Inputs are JSON documents: eval runs ("kind": "ate" | "rpe", run_json.h) and optimizer
-// summaries ("kind": "optimize"):
+// Inputs are JSON documents: eval runs ("kind": "ate" | "rpe", run_json.h), back-end
+// comparisons ("kind": "compare", below) and optimizer summaries ("kind": "optimize"):
 //   {"kind": "optimize", "label": "...", "solver": "lm", "init": "chordal", "initial_chi2": …,
 //    "final_chi2": …, "iterations": …, "time_total_s": …, "termination": "...",
 //    "trace": [{"iteration": 0, "cost": …, "time_s": …, …}, …]}
@@ -34,6 +34,11 @@ struct OptimizeRunData {
 
 /// Validates and reads an optimizer summary; throws InputError(source, 0, field, message).
 OptimizeRunData optimize_run_from_json(const nlohmann::json& j, const std::string& source);
+
+/// The back ends of a comparison (`slamkit compare --json`: {"kind": "compare", "file", "init",
+/// "runs": [{"solver", "final_chi2", "time_total_s", "iterations", "trace": [[time_s, chi2], …]}]}),
+/// one optimizer run each, so the report shows them in its table and cost curves.
+std::vector<OptimizeRunData> compare_runs_from_json(const nlohmann::json& j, const std::string& source);
 
 struct ReportInput {
   std::string path;        ///< shown in the page and in error messages

@@ -9,6 +9,7 @@
 //   chordal (3D)   chordal relaxation of rotations, min Σ w ‖R_j − R_i Z_ij‖²_F (one 3N×3N
 //                  system, three right-hand sides), projected to SO(3); then positions as above
 //   auto           linear in 2D, chordal in 3D
+//   sgd|toro|relax|mlr  the classic relaxers (solvers/relaxer_init.h) run from the file's estimates
 // Landmarks get their estimate from the first pose that observes them. The gauge vertices keep
 // their values. The linear systems share the optimizer's sparse Cholesky.
 #pragma once
@@ -21,8 +22,8 @@
 
 namespace slamkit {
 
-enum class InitMethod { kNone, kOdometry, kSpanningTree, kLinear, kChordal, kAuto };
-const char* to_string(InitMethod m);  ///< "none", "odometry", "spanning-tree", "linear", "chordal", "auto"
+enum class InitMethod { kNone, kOdometry, kSpanningTree, kLinear, kChordal, kAuto, kSgd, kToro, kRelax, kMlr };
+const char* to_string(InitMethod m);  ///< "none", "odometry", "spanning-tree", "linear", "chordal", "auto", "sgd", "toro", "relax", "mlr"
 InitMethod parse_init_method(const std::string& s);
 
 struct InitSummary {

@@ -1,0 +1,61 @@
+// HOG-Man: hierarchical optimization on manifolds (Grisetti, Kümmerle, Stachniss, Frese,
+// Hertzberg, ICRA 2010).
+//
+// Hierarchy: level 0 is the pose graph; level l+1 groups the nodes of level l in runs of
+// `group_size` consecutive ids, each group represented by its first node. Two groups joined by
+// an edge get one condensed edge between their representatives: the subgraph of the two
+// groups is optimized on the manifold with the first representative fixed (dense
+// Gauss-Newton), the measurement is the relative pose of the two representatives in that local
+// solution and the information is the marginal of the second (the Schur complement of the
+// local Hessian), mapped into the g2o error coordinates of the condensed edge.
+// Optimization is top-down: the coarsest graph (a few dozen nodes) is initialized
+// (`top_init`) and solved with Gauss-Newton; each level below moves every group rigidly with
+// its representative and re-optimizes, holding the neighbours fixed, only the groups whose
+// representative moved more than `refine_threshold` — the fine level is refined only where
+// the coarse solution changed. The batch method then polishes the fine level with Gauss-Newton.
+//
+// Online (hogman_online): the graph grows one pose at a time in id order with its edges to
+// the poses already there; only the groups that received a node or an edge are condensed again,
+// the top level is re-solved when an edge closes a loop between groups that are not neighbours
+// in the sequence, and changes travel down only where representatives moved.
+#pragma once
+
+#include <vector>
+
+#include "slamkit/core/pose_graph.h"
+#include "slamkit/solvers/pose_graph_init.h"
+#include "slamkit/solvers/relaxer.h"
+
+namespace slamkit {
+
+struct HogmanOptions {
+  RelaxerStop stop;
+  int group_size = 8;             ///< nodes per group at every level (≥ 2)
+  int max_levels = 3;             ///< coarse levels above the pose graph
+  int top_nodes = 64;             ///< stop adding levels once a level has at most this many nodes
+  int local_iterations = 3;       ///< Gauss-Newton iterations of a condensation or a group refinement
+  int refine_sweeps = 1;          ///< Gauss-Seidel sweeps over the moved groups at each level
+  double refine_threshold = 1e-4; ///< max |Log(x_old⁻¹ x_new)| of a representative that triggers refinement
+  InitMethod top_init = InitMethod::kAuto;  ///< initialization of the coarsest graph (batch)
+  int top_iterations = 20;        ///< Gauss-Newton iterations on the coarsest graph
+  int level_iterations = 2;       ///< Gauss-Newton iterations on an intermediate level (online)
+  bool online_level_iterations = false;  ///< online: after a loop closure, also iterate the intermediate levels
+  int threads = 1;
+};
+
+/// Batch HOG-Man on g (pose–pose edges only). Trace: iteration 1 the hierarchy pass (chi2 of
+/// the fine poses it leaves), iteration 2 the fine Gauss-Newton polish.
+RelaxerSummary optimize_hogman(PoseGraph& g, const HogmanOptions& options = {});
+
+struct HogmanOnlineResult {
+  std::vector<int> graph_size;        ///< poses in the graph after each addition
+  std::vector<double> time_per_pose_s;
+  std::vector<char> top_solved;       ///< the coarsest level was re-solved on this addition
+  double final_chi2 = 0, total_time_s = 0;
+  int levels = 0;
+};
+
+/// Replays g one pose at a time (id order) and leaves the online estimates in g.
+HogmanOnlineResult hogman_online(PoseGraph& g, const HogmanOptions& options = {});
+
+}  // namespace slamkit

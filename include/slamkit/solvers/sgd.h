@@ -1,0 +1,30 @@
+// SGD: stochastic gradient descent on pose graphs (Olson, Leonard, Teller, ICRA 2006).
+//
+// Parameterization: incremental poses along the odometry chain (vertex ids in order), in the
+// global frame, x_k = x_{k−1} + p_k. One update visits one constraint a → b, computes its
+// global-frame residual r and information W = G Ω Gᵀ, and changes the increments on the chain
+// between a and b by β = clamp(l · α · 2 W r, |r|) split in proportion to 1/M (M: the diagonal
+// of JᵀWJ, the preconditioner), with the learning rate α = 1/(γ · t) decreasing with the
+// iteration t (γ: the smallest diagonal information). Constraints are visited in a random
+// order (seeded, so the run is deterministic). Cost of an update: O(path length + depth) =
+// O(N) on the chain. 3D uses the rotation/translation split of the TORO engine on the same
+// chain. Converges from the odometry guess and, in 2D, from all-zero poses.
+#pragma once
+
+#include <cstdint>
+
+#include "slamkit/solvers/relaxer.h"
+
+namespace slamkit {
+
+struct SgdOptions {
+  RelaxerStop stop;
+  std::uint64_t seed = 1;  ///< order of the constraints in each iteration
+  bool shuffle = true;     ///< false: file order
+};
+
+/// Optimizes the poses of `g` in place. Throws InputError for graphs the relaxers cannot take
+/// (landmarks, disconnected, singular information; see make_relaxer_graph).
+RelaxerSummary optimize_sgd(PoseGraph& g, const SgdOptions& options = {});
+
+}  // namespace slamkit

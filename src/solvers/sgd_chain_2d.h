@@ -1,0 +1,44 @@
+// SGD in 2D on the odometry chain with O(log N) updates (Olson, Leonard, Teller 2006 keep
+// the cumulative sums of the increments in a tree for the same reason). Positions 0..n−1 along
+// the chain, the root (gauge) at 0; a constraint's path is the range (lo, hi] of positions,
+// and TORO/SGD's update adds c_i · w_k,i (w = 1/M) to every increment in it. So each
+// coordinate keeps two Fenwick trees: with W(p) = Σ_{k≤p} w_k, a range add (l, r, c) adds
+// c·(W(min(p, r)) − W(l − 1)) to the pose at p ≥ l, i.e. W(p)·S1(p) + S2(p) with S1 += c at l,
+// −c at r+1 and S2 += −c·W(l−1) at l, +c·W(r) at r+1. Poses are materialized once per
+// iteration (the preconditioner M changes with the orientations). Internal.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "slamkit/core/pose_graph.h"
+#include "slamkit/solvers/relaxer.h"
+
+namespace slamkit::detail {
+
+class ChainSgd2D {
+ public:
+  /// chain: the pose index at each position (chain[0] the root).
+  ChainSgd2D(const PoseGraph& g, const RelaxerGraph& rg, std::vector<int> chain);
+  double iterate(int iteration, const std::vector<int>& order);
+  void write_back(PoseGraph& g) const;
+
+ private:
+  double query(int dim, int p) const;
+  void range_add(int dim, int lo, int hi, double c);  // positions lo..hi inclusive
+  struct Edge {
+    int pa, pb;
+    Eigen::Vector3d z;
+    Eigen::Matrix3d info;
+  };
+  std::vector<int> chain_;
+  std::vector<std::size_t> vertex_;
+  std::vector<Edge> edges_;
+  int n_;
+  std::vector<Eigen::Vector3d> pose0_;  // poses at the start of the iteration
+  std::vector<double> w_[3], wsum_[3];  // w = 1/M per position, prefix sums (wsum[p] = Σ_{k≤p})
+  std::vector<double> s1_[3], s2_[3];   // Fenwick trees, 1-based
+  Eigen::Vector3d gamma_;
+};
+
+}  // namespace slamkit::detail

@@ -1,0 +1,26 @@
+#include "slamkit/solvers/toro.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "tree_relaxation.h"
+
+namespace slamkit {
+
+RelaxerSummary optimize_toro(PoseGraph& g, const ToroOptions& options) {
+  const RelaxerGraph rg = make_relaxer_graph(g);
+  const int root = detail::tree_root(rg);
+  detail::TreeRelaxation engine(g, rg, detail::bfs_tree(rg, root));
+  // Short constraints first (TORO's order); ties in file order.
+  std::vector<int> order(g.edges.size()), length(g.edges.size());
+  std::iota(order.begin(), order.end(), 0);
+  for (std::size_t e = 0; e < order.size(); ++e) length[e] = engine.path_length(static_cast<int>(e));
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return length[x] < length[y]; });
+  auto step = [&](int iteration) { return engine.iterate(iteration, order); };
+  RelaxerSummary s = run_relaxer(g, "toro", options.stop, step, [&] { engine.write_back(g); });
+  s.num_loop_closures = rg.num_loop_closures;
+  if (rg.num_loop_closures == 0) s.notes.push_back("no loop closure: every constraint can be met exactly");
+  return s;
+}
+
+}  // namespace slamkit
