@@ -1,6 +1,11 @@
 #include "slamkit/io/mrclam_odometry.h"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
+#include <fstream>
+#include <istream>
+#include <ostream>
 #include <cmath>
 #include <filesystem>
 
@@ -10,23 +15,6 @@
 
 namespace slamkit {
 namespace {
-
-std::vector<MrclamSample> read_columns(const std::string& path, int columns) {
-  const auto r = TextReader::open(path);
-  std::vector<MrclamSample> out;
-  static constexpr const char* kNames[2][4] = {{"time", "v", "omega", ""}, {"time", "x", "y", "theta"}};
-  const auto& names = kNames[columns == 4 ? 1 : 0];
-  while (r->next_line()) {
-    if (static_cast<int>(r->num_fields()) != columns)
-      r->fail("", "expected " + std::to_string(columns) + " columns, line has " + std::to_string(r->num_fields()));
-    MrclamSample s{r->number(0, names[0]), r->number(1, names[1]), r->number(2, names[2]),
-                   columns > 3 ? r->number(3, names[3]) : 0.0};
-    if (!out.empty() && s.t < out.back().t) r->fail("time", "time stamps go backwards");
-    out.push_back(s);
-  }
-  if (out.size() < 2) throw InputError(path, 0, "", "fewer than 2 samples");
-  return out;
-}
 
 // Time-weighted mean of the commanded (v, ω) over [t0, t1); a command holds until the next one.
 Eigen::Vector2d mean_command(const std::vector<MrclamSample>& odo, double t0, double t1, double lag) {
@@ -40,7 +28,43 @@ Eigen::Vector2d mean_command(const std::vector<MrclamSample>& odo, double t0, do
   return sum / (t1 - t0);
 }
 
+std::vector<MrclamSample> read_columns(const std::string& path, int columns) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open file");
+  return read_mrclam_samples(in, path, columns);
+}
+
 }  // namespace
+
+std::vector<MrclamSample> read_mrclam_samples(std::istream& in, const std::string& source, int columns) {
+  if (columns != 3 && columns != 4) throw InputError(source, 0, "", "MRCLAM logs have 3 or 4 columns");
+  TextReader r(in, source);
+  std::vector<MrclamSample> out;
+  static constexpr const char* kNames[2][4] = {{"time", "v", "omega", ""}, {"time", "x", "y", "theta"}};
+  const auto& names = kNames[columns == 4 ? 1 : 0];
+  while (r.next_line()) {
+    if (static_cast<int>(r.num_fields()) != columns)
+      r.fail("", "expected " + std::to_string(columns) + " columns, line has " + std::to_string(r.num_fields()));
+    MrclamSample s{r.number(0, names[0]), r.number(1, names[1]), r.number(2, names[2]),
+                   columns > 3 ? r.number(3, names[3]) : 0.0};
+    if (!out.empty() && s.t < out.back().t) r.fail("time", "time stamps go backwards");
+    out.push_back(s);
+  }
+  if (out.size() < 2) throw InputError(source, 0, "", "fewer than 2 samples");
+  return out;
+}
+
+void write_mrclam_samples(std::ostream& out, const std::vector<MrclamSample>& samples, int columns) {
+  auto text = [](double v) {
+    std::array<char, 32> buf{};
+    return std::string(buf.data(), std::to_chars(buf.data(), buf.data() + buf.size(), v).ptr);
+  };
+  for (const MrclamSample& s : samples) {
+    out << text(s.t) << '\t' << text(s.a) << '\t' << text(s.b);
+    if (columns == 4) out << '\t' << text(s.c);
+    out << '\n';
+  }
+}
 
 MrclamRobotLog read_mrclam_robot(const std::string& dir, int robot) {
   const std::filesystem::path d(dir);

@@ -27,6 +27,11 @@ void GraphBuilder::require_dimension(const TextReader& r, int dimension) {
 void GraphBuilder::add_vertex(const TextReader& r, GraphVertex v) {
   has_vertex_lines_ = true;
   v.line = r.line_number();
+  // Pose/point and calibration vertices share one id space (a fuzz finding: a pose vertex after a
+  // calibration vertex of the same id was accepted, and the written file did not read back).
+  if (const CalibrationVertex* old = g_.calibration.find(v.id))
+    r.fail("id", "duplicate vertex id " + std::to_string(v.id) + " (first defined on line " + std::to_string(old->line) +
+                     ")");
   if (!g_.add_vertex(v)) {
     r.fail("id", "duplicate vertex id " + std::to_string(v.id) + " (first defined on line " +
                      std::to_string(g_.vertex(v.id).line) + ")");

@@ -124,6 +124,7 @@ TEST(G2oCalibration, StrictErrorsNameLineAndField) {
   expect_error(v + "EDGE_SE2_OFFSET 0 1 0 0 1 0 0 1 0 0 1 0 1\n", 3, "param_from");  // no PARAMS_SE2OFFSET 0
   expect_error(v + "PARAMS_SE2OFFSET 0 0 0 0\nPARAMS_SE2OFFSET 0 0 0 0\n", 4, "id");
   expect_error(v + "VERTEX_ODOM_DIFFERENTIAL 1 1 1 0.5\n", 3, "id");  // id taken by a pose
+  expect_error(v + "VERTEX_ODOM_DIFFERENTIAL 5 1 1 0.5\nVERTEX_SE2 5 0 0 0\n", 4, "id");  // and the other way round (fuzz)
   // A sensor-offset vertex cannot also be a pose endpoint.
   expect_error(v + "VERTEX_SE2 5 0 0 0\nEDGE_SE2_CALIB 0 1 5 1 0 0 1 0 0 1 0 1\nEDGE_SE2 1 5 1 0 0 1 0 0 1 0 1\n", 5, "to");
 }

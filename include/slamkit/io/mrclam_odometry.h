@@ -6,6 +6,7 @@
 // VERTEX_ODOM_DIFFERENTIAL (1, 1, b₀) per robot: id 1000000 + robot; poses robot·100000 + k.
 #pragma once
 
+#include <iosfwd>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,6 +23,13 @@ struct MrclamRobotLog {
   int robot = 1;
   std::vector<MrclamSample> odometry, groundtruth;
 };
+
+/// One log file: `columns` = 3 (odometry: t v ω) or 4 (ground truth: t x y θ), '#' comments.
+/// Throws InputError naming `source`, line and field on malformed rows, stamps going backwards,
+/// or fewer than 2 samples.
+std::vector<MrclamSample> read_mrclam_samples(std::istream& in, const std::string& source, int columns);
+/// Writes samples as read_mrclam_samples reads them back (shortest round-trip numbers).
+void write_mrclam_samples(std::ostream& out, const std::vector<MrclamSample>& samples, int columns);
 
 /// Reads RobotN_Odometry.dat and RobotN_Groundtruth.dat of `dir`. Throws InputError naming file,
 /// line and field on malformed rows, stamps going backwards, or fewer than 2 samples.
