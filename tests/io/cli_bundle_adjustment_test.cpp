@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "slamkit/io/bal_io.h"
+#include "testing/cli.h"
 #include "testing/data.h"
 
 namespace slamkit {
@@ -18,33 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
+using testing::CliRun;
+using testing::contains;
+using testing::slurp;
 
-fs::path scratch() {
-  const fs::path dir = fs::temp_directory_path() / ("slamkit_ba_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-CliRun slamkit(const std::string& args) {
-  const fs::path dir = scratch();
-  const std::string cmd = std::string(SLAMKIT_BINARY_DIR) + "/bin/slamkit " + args + " > " + (dir / "out").string() +
-                          " 2> " + (dir / "err").string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "out"), slurp(dir / "err")};
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+fs::path scratch() { return testing::cli_scratch("slamkit_ba_cli_test_"); }
+CliRun slamkit(const std::string& args) { return testing::run_slamkit(args, scratch()); }
 
 TEST(CliBundleAdjustment, SimulatedProblemWithEveryLinearSolver) {
   const fs::path dir = scratch();
