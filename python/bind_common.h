@@ -67,5 +67,8 @@ void init_custom_factor(py::module_& m);
 void init_sim(py::module_& m);
 void init_io(py::module_& m);
 void init_eval(py::module_& m);
+void init_bundle_adjustment(py::module_& m);
+void init_relaxers(py::module_& m);
+void init_calibration(py::module_& m);
 
 }  // namespace slamkit::python

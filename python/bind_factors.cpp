@@ -85,6 +85,17 @@ py::dict result_dict(const PoseGraphResult& r, const PoseGraph& g) {
   j["time_optimize_s"] = r.summary.time_total_s;
   j["time_total_s"] = r.time_total_s;
   j["notes"] = r.notes;
+  if (!r.calibration.parameters.empty() || !r.calibration.warnings.empty()) {  // as cmd_optimize's add_calibration_json
+    py::list list;
+    for (const CalibrationParameterEstimate& p : r.calibration.parameters) {
+      py::dict e;
+      e["name"] = p.name, e["value"] = p.value, e["observable"] = p.observable;
+      e["sigma"] = std::isfinite(p.sigma) ? py::object(py::float_(p.sigma)) : py::object(py::none());
+      list.append(e);
+    }
+    j["calibration"] = list;
+    j["calibration_warnings"] = r.calibration.warnings;
+  }
   return j;
 }
 
@@ -186,6 +197,8 @@ void init_factors(py::module_& m) {
       .def_readonly("time_ordering_s", &PoseGraphResult::time_ordering_s)
       .def_readonly("time_total_s", &PoseGraphResult::time_total_s)
       .def_readonly("notes", &PoseGraphResult::notes)
+      .def_readonly("calibration", &PoseGraphResult::calibration,
+                    "CalibrationReport: estimates with marginal sigmas when the graph has calibration variables.")
       .def("__repr__", [](const PoseGraphResult& r) {
         return "PoseGraphResult(final_chi2=" + std::to_string(r.final_chi2) + ", " +
                std::string(to_string(r.summary.termination)) + ")";
@@ -196,8 +209,8 @@ void init_factors(py::module_& m) {
       [](PoseGraph& g, const std::string& solver, const std::string& init, int max_iterations,
          const py::object& robust, bool loops_only, int threads, int blas_threads, double function_tolerance,
          double gradient_tolerance, double parameter_tolerance, const std::string& linear_solver,
-         const std::string& ordering, const std::string& se3_error, const py::object& callback, bool verbose,
-         bool as_dict) -> py::object {
+         const std::string& ordering, const std::string& se3_error, const std::string& calibrate,
+         const py::object& callback, bool verbose, bool as_dict) -> py::object {
         PoseGraphOptimizerOptions o;
         o.init = parse_init_method(init);
         o.optimizer.algorithm = parse_algorithm(solver);
@@ -210,6 +223,7 @@ void init_factors(py::module_& m) {
         o.optimizer.linear_solver = parse_sparse_backend(linear_solver);
         o.optimizer.ordering = parse_ordering(ordering);
         o.problem = problem_options(robust, loops_only, se3_error);
+        o.problem.calibration = parse_calibrate_option(calibrate);
         validate_optimizer_options(o.optimizer);
         install_python_callback(o.optimizer, callback, verbose);
         PoseGraphResult r;
@@ -225,8 +239,8 @@ void init_factors(py::module_& m) {
       py::arg("robust") = py::none(), py::arg("robust_loop_closures_only") = false, py::arg("threads") = 0,
       py::arg("blas_threads") = 1, py::arg("function_tolerance") = 1e-5, py::arg("gradient_tolerance") = 1e-10,
       py::arg("parameter_tolerance") = 1e-8, py::arg("linear_solver") = "auto", py::arg("ordering") = "auto",
-      py::arg("se3_error") = "quaternion", py::arg("callback") = py::none(), py::arg("verbose") = false,
-      py::arg("as_dict") = false,
+      py::arg("se3_error") = "quaternion", py::arg("calibrate") = "auto", py::arg("callback") = py::none(),
+      py::arg("verbose") = false, py::arg("as_dict") = false,
       "The whole pipeline of `slamkit optimize` (gauge, ordering, initialization, optimization) with the same "
       "options and defaults; the graph's estimates are replaced by the result. The GIL is released while it "
       "runs. Returns a PoseGraphResult, or with as_dict=True the CLI's --json document as a dict.");

@@ -5,6 +5,7 @@
 
 #include "bind_common.h"
 #include "slamkit/io/pose_graph_io.h"
+#include "slamkit/io/pose_graph_source.h"
 #include "slamkit/io/trajectory_io.h"
 #include "slamkit/sim/pose_graph_generator.h"
 
@@ -60,20 +61,13 @@ void init_io(py::module_& m) {
   m.def(
       "load_pose_graph",
       [](const std::string& spec, const std::string& format, bool unknown_tags_as_warnings, bool repair) {
-        PoseGraphSimOptions sim;
-        if (parse_sim_spec(spec, &sim)) {
-          PoseGraph g = generate_pose_graph(sim);
-          g.source = spec;
-          g.format = "g2o";
-          return g;
-        }
         py::gil_scoped_release release;
-        return read_pose_graph(spec, read_options(format, unknown_tags_as_warnings, repair, true));
+        return load_pose_graph(spec, read_options(format, unknown_tags_as_warnings, repair, true));
       },
       py::arg("spec"), py::arg("format") = "auto", py::arg("unknown_tags_as_warnings") = false,
       py::arg("repair_information") = false,
       "What `slamkit optimize FILE` loads: a pose-graph file or a generated graph 'sim:sphere', "
-      "'sim:manhattan?seed=3', ...");
+      "'sim:manhattan?seed=3', 'sim:calib2d?laps=2', ...");
   m.def(
       "pose_graph_from_string",
       [](const std::string& text, const std::string& source, const std::string& format, bool unknown_tags_as_warnings,

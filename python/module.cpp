@@ -171,4 +171,7 @@ PYBIND11_MODULE(_slamkit, m) {
   sp::init_sim(m);
   sp::init_io(m);
   sp::init_eval(m);
+  sp::init_bundle_adjustment(m);
+  sp::init_relaxers(m);
+  sp::init_calibration(m);
 }

@@ -10,21 +10,6 @@
 
 namespace slamkit::cli {
 
-CalibrationOptions parse_calibrate_option(const std::string& value) {
-  CalibrationOptions o;
-  if (value == "auto") return o;
-  o.offsets = o.odometry = false;
-  if (value == "none") return o;
-  std::istringstream in(value);
-  std::string part;
-  while (std::getline(in, part, ',')) {
-    if (part == "offset") o.offsets = o.offset_parameters = true;
-    else if (part == "odometry") o.odometry = true;
-    else throw InputError("--calibrate", 0, part, "unknown calibration group (auto, none, offset, odometry)");
-  }
-  return o;
-}
-
 void print_calibration(const CalibrationReport& report) {
   for (const std::string& w : report.warnings) std::cerr << "slamkit: warning: " << w << "\n";
   for (const std::string& h : report.held)

@@ -1,5 +1,5 @@
-// The calibration part of `slamkit optimize` (factors/calibration_problem.h): the --calibrate
-// option, the printed table and the JSON fields `calibration` ([{name, value, sigma}], sigma null
+// The calibration part of `slamkit optimize` (factors/calibration_problem.h; the --calibrate
+// option is parse_calibrate_option there): the printed table and the JSON fields `calibration` ([{name, value, sigma}], sigma null
 // when unobservable) and, for sim:calib* inputs, `calibration_truth`.
 #pragma once
 
@@ -9,10 +9,6 @@
 #include "slamkit/factors/pose_graph_optimizer.h"
 
 namespace slamkit::cli {
-
-/// "auto" (the file's calibration vertices; PARAMS_* constants as in g2o, estimated for sim:calib*),
-/// "none", or a comma list of "offset" (vertices and PARAMS_* offsets) and "odometry".
-CalibrationOptions parse_calibrate_option(const std::string& value);
 
 /// Prints the estimates with their sigmas (stdout) and the warnings (stderr).
 void print_calibration(const CalibrationReport& report);

@@ -11,6 +11,7 @@
 #include "slamkit/core/error.h"
 #include "slamkit/core/output_file.h"
 #include "slamkit/io/pose_graph_io.h"
+#include "slamkit/io/pose_graph_source.h"  // load_pose_graph: a file or a sim: spec
 #include "slamkit/sim/calibration_generator.h"
 #include "slamkit/sim/pose_graph_generator.h"
 
@@ -26,26 +27,6 @@ inline void write_json(const std::string& path, const nlohmann::json& j) {
 inline void check_outputs(std::initializer_list<std::pair<const std::string*, const char*>> outputs) {
   for (const auto& [path, option] : outputs)
     if (!path->empty()) check_writable(*path, option);
-}
-
-/// A pose-graph file, or a built-in generated graph named "sim:sphere", "sim:manhattan", ...
-inline PoseGraph load_pose_graph(const std::string& spec, const PoseGraphReadOptions& options,
-                                 PoseGraphReadReport* report) {
-  PoseGraphSimOptions sim;
-  CalibrationSimOptions calib;
-  const bool is_calib = parse_calibration_sim_spec(spec, &calib);
-  if (is_calib || parse_sim_spec(spec, &sim)) {
-    PoseGraph g = is_calib ? generate_calibration_problem(calib) : generate_pose_graph(sim);
-    g.source = spec;
-    g.format = "g2o";  // what it would be written as
-    if (report) {
-      *report = PoseGraphReadReport{};
-      report->format = PoseGraphFormat::kG2o;
-      report->information = check_information(g);
-    }
-    return g;
-  }
-  return read_pose_graph(spec, options, report);
 }
 
 class Stopwatch {

@@ -27,6 +27,13 @@ def instances():
     result = sk.optimize_pose_graph(read)
     est, ref = read.to_trajectory(), truth.to_trajectory()
     ate, rpe = sk.ate(est, ref), sk.rpe(est, ref)
+    ba = sk.generate_ba_problem(cameras=4, points=60)
+    ba_result = sk.optimize_bundle_adjustment(ba.copy())
+    relaxed = sk.generate_pose_graph(num_poses=40)
+    relaxer = sk.optimize_toro(relaxed, max_iterations=3)
+    online = sk.hogman_online(sk.generate_pose_graph(num_poses=40))
+    calib, _ = sk.generate_calibration_problem(laps=1)
+    calib_report = sk.optimize_pose_graph(calib).calibration
     v = sk.Values()
     v.insert(0, [1.0, 2.0])
     v.insert(1, sk.SO3())
@@ -56,6 +63,10 @@ def instances():
         "PoseGraphSimOptions": sk.PoseGraphSimOptions(), "PoseGraphReadReport": report,
         "ErrorStatistics": ate.stats, "Association": ate.association, "PoseErrors": sk.compute_ate(est, ref),
         "RpeErrors": sk.compute_rpe(est, ref), "EvalResult": ate, "EvalResult_rpe": rpe,
+        "BalProblem": ba, "BaSimOptions": sk.BaSimOptions(), "BundleAdjustmentResult": ba_result,
+        "RelaxerSummary": relaxer, "RelaxerIteration": relaxer.trace[-1], "HogmanOnlineResult": online,
+        "CalibrationReport": calib_report, "CalibrationParameterEstimate": calib_report.parameters[0],
+        "CalibrationSimOptions": sk.CalibrationSimOptions(),
     }
 
 

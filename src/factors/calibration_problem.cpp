@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "slamkit/core/error.h"
 #include "slamkit/core/information.h"
@@ -168,6 +169,21 @@ void add_calibration_to_problem(const PoseGraph& g, const CalibrationOptions& op
       case CalibrationKind::kOdomLinear: graph.emplace<PriorFactor<Vector9d>>(k, Vector9d(p.mean), noise); break;
     }
   }
+}
+
+CalibrationOptions parse_calibrate_option(const std::string& value) {
+  CalibrationOptions o;
+  if (value == "auto") return o;
+  o.offsets = o.odometry = false;
+  if (value == "none") return o;
+  std::istringstream in(value);
+  std::string part;
+  while (std::getline(in, part, ',')) {
+    if (part == "offset") o.offsets = o.offset_parameters = true;
+    else if (part == "odometry") o.odometry = true;
+    else throw InputError("--calibrate", 0, part, "unknown calibration group (auto, none, offset, odometry)");
+  }
+  return o;
 }
 
 CalibrationReport analyze_calibration(const FactorGraph& graph, const Values& values,

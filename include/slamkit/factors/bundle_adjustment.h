@@ -46,7 +46,7 @@ struct BundleAdjustmentResult {
   Summary summary;
   double initial_cost = 0.0, final_cost = 0.0;  ///< ½ Σ ρ(‖r‖²)
   double time_build_s = 0.0;                    ///< building the factor graph
-  std::string schur_method;                     ///< the reduced-system solver used
+  // summary.linear_solver names the reduced-system solver ("Schur complement (...) + dense LLT").
 };
 
 /// Optimizes p in place (cameras and points). Throws InputError for unusable input (see

@@ -39,6 +39,11 @@ struct CalibrationOptions {
 };
 
 /// One free or fixed calibration variable of a problem.
+/// The --calibrate option (and Python's calibrate=): "auto" (the file's calibration vertices;
+/// PARAMS_* constants as in g2o, estimated for sim:calib*), "none", or a comma list of "offset"
+/// (vertices and PARAMS_* offsets) and "odometry". Throws InputError for another word.
+CalibrationOptions parse_calibrate_option(const std::string& value);
+
 struct CalibrationVariable {
   Key key = 0;
   std::string name;  ///< "offset[1000]", "odometry[1001]", "params_se3offset[0]"
