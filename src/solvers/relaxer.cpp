@@ -3,26 +3,17 @@
 #include <Eigen/Cholesky>
 #include <chrono>
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <deque>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "slamkit/core/error.h"
 #include "slamkit/core/pose_graph_error.h"
+#include "string_format.h"
 
 namespace slamkit {
 namespace {
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof(buf), fmt, args);
-  va_end(args);
-  return buf;
-}
+using detail::format;
 
 bool finite_pose(const GraphVertex& v) {
   if (v.kind == VertexKind::kPose2) return std::isfinite(v.pose2.x()) && std::isfinite(v.pose2.y()) && std::isfinite(v.pose2.theta());
