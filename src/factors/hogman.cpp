@@ -429,6 +429,7 @@ RelaxerSummary optimize_hogman(PoseGraph& g, const HogmanOptions& options) {
     PoseGraphOptimizerOptions po;
     po.init = InitMethod::kNone;
     po.optimizer.algorithm = options.fine_algorithm;
+    po.optimizer.function_tolerance = options.fine_function_tolerance;
     po.optimizer.num_threads = options.threads;
     optimize_pose_graph(g, po);
     return -1.0;  // the fine level is converged: done
