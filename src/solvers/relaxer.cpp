@@ -98,6 +98,11 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
   bool go = !stop.callback || stop.callback(it0);
   if (!go) s.termination = "user callback";
   std::vector<GraphVertex> last = g.vertices();
+  // SGD and TORO are not monotone (a constraint's update may raise the others' error): the
+  // run returns the best iterate it visited, not the last.
+  std::vector<GraphVertex> best = g.vertices();
+  double best_chi2 = s.initial_chi2;
+  int best_iteration = 0;
   int flat = 0;
   for (int k = 1; go && k <= stop.max_iterations; ++k) {
     RelaxerIteration it;
@@ -119,6 +124,7 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
     s.trace.push_back(it);
     s.iterations = k;
     for (std::size_t i = 0; i < last.size(); ++i) last[i] = g.vertices()[i];
+    if (it.chi2 < best_chi2) best = last, best_chi2 = it.chi2, best_iteration = k;
     const double prev = s.trace[s.trace.size() - 2].chi2;
     flat = std::abs(prev - it.chi2) <= stop.relative_tolerance * std::max(it.chi2, 1e-300) ? flat + 1 : 0;
     if (stop.callback && !stop.callback(it)) {
@@ -139,6 +145,12 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
     }
   }
   s.final_chi2 = s.trace.back().chi2;
+  if (best_chi2 < s.final_chi2) {
+    for (std::size_t i = 0; i < best.size(); ++i) g.vertex_at(i) = best[i];
+    s.notes.push_back(format("returned the best iterate (iteration %d, chi2 %.10g; the last had %.10g)", best_iteration,
+                             best_chi2, s.final_chi2));
+    s.final_chi2 = best_chi2;
+  }
   s.time_total_s = elapsed();
   return s;
 }
