@@ -421,9 +421,11 @@ HogmanOnlineResult online(PoseGraph& g, const HogmanOptions& o) {
 RelaxerSummary optimize_hogman(PoseGraph& g, const HogmanOptions& options) {
   check_options(options);
   const RelaxerGraph rg = make_relaxer_graph(g);
+  std::string fine_start = "the graph's estimates";
   auto step = [&](int iteration) -> double {
     if (iteration == 1) {
-      if (options.fine_init != InitMethod::kNone) initialize_pose_graph(g, options.fine_init, gauge_vertices(g));
+      if (options.fine_init != InitMethod::kNone)
+        fine_start = to_string(initialize_pose_graph(g, options.fine_init, gauge_vertices(g)).used);
       return rg.dimension == 2 ? hierarchy_pass<3>(g, options) : hierarchy_pass<6>(g, options);
     }
     PoseGraphOptimizerOptions po;
@@ -437,7 +439,7 @@ RelaxerSummary optimize_hogman(PoseGraph& g, const HogmanOptions& options) {
   RelaxerSummary s = run_relaxer(g, "hogman", options.stop, step, [] {});
   s.num_loop_closures = rg.num_loop_closures;
   s.notes.push_back("levels above the pose graph: " + std::to_string(levels_for(g.vertices().size(), options)) +
-                    ", group size " + std::to_string(options.group_size));
+                    ", group size " + std::to_string(options.group_size) + "; fine level started from " + fine_start);
   return s;
 }
 

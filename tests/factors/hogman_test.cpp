@@ -132,7 +132,8 @@ PoseGraph noisy_laps(int laps, double sigma_theta, unsigned seed) {
   return g;
 }
 
-double optimum_from_truth_start(PoseGraph g) {
+// The reference optimum: LM from the LAGO start (what `slamkit optimize` does by default).
+double lm_optimum_from_lago(PoseGraph g) {
   PoseGraphOptimizerOptions po;
   po.init = InitMethod::kAuto;
   po.optimizer.algorithm = Algorithm::kLevenbergMarquardt;
@@ -144,7 +145,7 @@ double optimum_from_truth_start(PoseGraph g) {
 // fine-level pass brings it to the batch optimum.
 TEST(Hogman, OnlineFinalPassTracksTheBatchOptimum) {
   PoseGraph g = noisy_laps(4, 0.01, 5);
-  const double optimum = optimum_from_truth_start(g);
+  const double optimum = lm_optimum_from_lago(g);
   HogmanOptions o;
   o.group_size = 4;
   o.top_nodes = 8;
@@ -161,7 +162,7 @@ TEST(Hogman, OnlineFinalPassTracksTheBatchOptimum) {
 // fine level and the damped fine pass reach the optimum.
 TEST(Hogman, BatchReachesTheOptimumFromLargeRotationDrift) {
   PoseGraph g = noisy_laps(4, 0.15, 11);
-  const double optimum = optimum_from_truth_start(g);
+  const double optimum = lm_optimum_from_lago(g);
   HogmanOptions o;
   o.group_size = 4;
   o.top_nodes = 8;

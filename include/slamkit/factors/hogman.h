@@ -12,12 +12,15 @@
 // (`top_init`) and solved with Gauss-Newton; each level below moves every group rigidly with
 // its representative and re-optimizes, holding the neighbours fixed, only the groups whose
 // representative moved more than `refine_threshold` — the fine level is refined only where
-// the coarse solution changed. The batch method then polishes the fine level with Gauss-Newton.
+// the coarse solution changed. The batch method starts the fine level from `fine_init`,
+// iterates the intermediate levels on the way down and ends with a damped (LM) fine pass.
 //
 // Online (hogman_online): the graph grows one pose at a time in id order with its edges to
 // the poses already there; only the groups that received a node or an edge are condensed again,
 // the top level is re-solved when an edge closes a loop between groups that are not neighbours
-// in the sequence, and changes travel down only where representatives moved.
+// in the sequence, and changes travel down only where representatives moved. When the replay
+// ends, a final fine-level pass (all levels brought up to date, a few Gauss-Newton iterations on
+// the fine level) gives the full solution; its time is reported apart from the additions.
 #pragma once
 
 #include <vector>
@@ -65,8 +68,8 @@ struct HogmanOptions {
   int threads = 1;
 };
 
-/// Batch HOG-Man on g (pose–pose edges only). Trace: iteration 1 the hierarchy pass (chi2 of
-/// the fine poses it leaves), iteration 2 the fine Gauss-Newton polish.
+/// Batch HOG-Man on g (pose–pose edges only). Trace: iteration 1 the fine start and the
+/// hierarchy pass (chi2 of the fine poses it leaves), iteration 2 the fine LM pass.
 RelaxerSummary optimize_hogman(PoseGraph& g, const HogmanOptions& options = {});
 
 struct HogmanOnlineResult {
