@@ -3,6 +3,7 @@
 // (chi2 on a log axis against wall time) as SVG.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -61,14 +62,27 @@ nlohmann::json to_json(const Comparison& c) {
   return j;
 }
 
+// What --init means, for the plot title.
+std::string start_label(const std::string& init) {
+  if (init == "none") return "the file's estimates";
+  if (init == "zero") return "all poses at the origin";
+  if (init == "auto") return "LAGO / chordal";
+  return init;
+}
+
+// Both axes logarithmic: the fast solvers finish in milliseconds, the relaxers use the whole
+// budget. The legend is in rank order; the curves start at each back end's first iteration.
 void write_plot(const Comparison& c, const std::string& path) {
-  Plot p("Convergence on " + c.file + " (start: " + c.init + ")", "time [s]", "chi2 (log scale)");
+  const std::string name = std::filesystem::path(c.file).filename().string();
+  Plot p(name + ": chi2 against time, every back end from " + start_label(c.init), "wall time [s] (log scale)",
+         "chi2 (log scale)");
   p.set_log_y(true);
+  p.set_log_x(true);
   for (std::size_t k = 0; k < c.runs.size(); ++k) {
     const BackendRun& r = c.runs[k];
     if (!r.error.empty()) continue;
     Plot::Series s;
-    s.label = r.solver;
+    s.label = std::to_string(k + 1) + ". " + r.solver;
     s.color = palette(k);
     s.width = 1.8;
     s.points = r.trace.size() <= 40;
@@ -78,6 +92,7 @@ void write_plot(const Comparison& c, const std::string& path) {
     }
     p.add_series(std::move(s));
   }
+  p.add_hline(c.start_chi2, "start", Rgb{0x99, 0x99, 0x99}, "2 3");
   p.add_hline(c.best_chi2, "best found", Rgb{0x55, 0x55, 0x55});
   write_file_atomically(path, p.render(900, 520).str(), "--plot");
 }

@@ -34,7 +34,7 @@ void run_hogman_optimize(PoseGraph& g, const HogmanCliOutput& out) {
     j["format"] = g.format;
     j["vertices"] = g.vertices().size();
     j["edges"] = g.edges.size();
-    j["init"] = "none";
+    j["init"] = to_string(o.fine_init);  // the fine level's start (HogmanOptions::fine_init)
     write_json(out.json, j);
   }
 }

@@ -92,10 +92,11 @@ Histogram make_histogram(const std::vector<double>& values, int n_bins, double l
 
 struct Plot::Frame {
   double left, top, width, height;  // plot area in pixels
-  double x0, x1, y0, y1;            // data range (y in log10 units on a log axis)
-  bool log_y;
+  double x0, x1, y0, y1;            // data range (in log10 units on a log axis)
+  bool log_y, log_x = false;
   bool has_y(double y) const { return std::isfinite(y) && (!log_y || y > 0.0); }
-  double px(double x) const { return left + (x - x0) / (x1 - x0) * width; }
+  bool has_x(double x) const { return std::isfinite(x) && (!log_x || x > 0.0); }
+  double px(double x) const { return left + ((log_x ? std::log10(x) : x) - x0) / (x1 - x0) * width; }
   double py(double y) const { return top + height - ((log_y ? std::log10(y) : y) - y0) / (y1 - y0) * height; }
 };
 
@@ -159,20 +160,24 @@ SvgWriter Plot::render(double width, double height) const {
   const double legend_rows = legend.empty() ? 0 : static_cast<double>(rows.size());
   const double top = (title_.empty() ? 12.0 : 32.0) + legend_rows * 17.0 + (legend.empty() ? 0.0 : 6.0);
 
-  Frame f{left, top, std::max(10.0, width - left - right), std::max(10.0, height - top - bottom), 0, 1, 0, 1, log_y_};
+  Frame f{left, top, std::max(10.0, width - left - right), std::max(10.0, height - top - bottom), 0, 1, 0, 1, log_y_,
+          log_x_ && bars_.empty()};
 
   // Data ranges.
   Range xr, yr;
   auto add_y = [&](double y) {
     if (f.has_y(y)) yr.add(log_y_ ? std::log10(y) : y);
   };
+  auto add_x = [&](double x) {
+    if (f.has_x(x)) xr.add(f.log_x ? std::log10(x) : x);
+  };
   for (const auto& s : series_)
     for (std::size_t k = 0; k < s.x.size() && k < s.y.size(); ++k)
-      if (std::isfinite(s.x[k]) && f.has_y(s.y[k])) xr.add(s.x[k]), add_y(s.y[k]);
+      if (f.has_x(s.x[k]) && f.has_y(s.y[k])) add_x(s.x[k]), add_y(s.y[k]);
   for (const auto& p : paths_)
     for (std::size_t k = 0; k < p.x.size() && k < p.y.size(); ++k)
-      if (std::isfinite(p.x[k]) && f.has_y(p.y[k])) xr.add(p.x[k]), add_y(p.y[k]);
-  for (const auto& m : markers_) xr.add(m.x), add_y(m.y);
+      if (f.has_x(p.x[k]) && f.has_y(p.y[k])) add_x(p.x[k]), add_y(p.y[k]);
+  for (const auto& m : markers_) add_x(m.x), add_y(m.y);
   for (const auto& b : bars_) {
     for (double e : b.h.edges) xr.add(e);
     for (double c : b.h.counts) add_y(c);
@@ -212,13 +217,19 @@ SvgWriter Plot::render(double width, double height) const {
   const SvgWriter::Stroke axis{kAxisColor, 1.0, "", 1.0};
   SvgWriter::Text tick_style{kTickSize, "middle", "#333333", false, 0.0};
   svg.begin_group("grid");
-  const std::vector<double> xt = nice_ticks(f.x0, f.x1, std::max(2, static_cast<int>(f.width / 90)));
-  const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1.0;
-  for (double v : xt) {
+  std::vector<std::pair<double, std::string>> xticks;  // (data value, label)
+  if (f.log_x) {  // decades
+    for (double k = std::ceil(f.x0); k <= f.x1; k += 1.0) xticks.push_back({std::pow(10.0, k), compact_number(std::pow(10.0, k))});
+  } else {
+    const std::vector<double> xt = nice_ticks(f.x0, f.x1, std::max(2, static_cast<int>(f.width / 90)));
+    const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1.0;
+    for (double v : xt) xticks.push_back({v, tick_label(v, xstep)});
+  }
+  for (const auto& [v, label] : xticks) {
     const double x = f.px(v);
     svg.line(x, f.top, x, f.top + f.height, grid);
     svg.line(x, f.top + f.height, x, f.top + f.height + 4, axis);
-    svg.text(x, f.top + f.height + 16, tick_label(v, xstep), tick_style);
+    svg.text(x, f.top + f.height + 16, label, tick_style);
   }
   std::vector<std::pair<double, std::string>> yt;  // (axis units, label)
   const int ytarget = std::max(2, static_cast<int>(f.height / 55));
@@ -271,7 +282,7 @@ SvgWriter Plot::render(double width, double height) const {
       run.clear();
     };
     for (std::size_t k = 0; k < std::min(x.size(), y.size()); ++k) {
-      if (std::isfinite(x[k]) && f.has_y(y[k])) run.push_back({f.px(x[k]), f.py(y[k])});
+      if (f.has_x(x[k]) && f.has_y(y[k])) run.push_back({f.px(x[k]), f.py(y[k])});
       else flush();
     }
     flush();
@@ -280,7 +291,7 @@ SvgWriter Plot::render(double width, double height) const {
     draw_runs(s.x, s.y, SvgWriter::Stroke{s.color.hex(), s.width, s.dash, s.opacity});
     if (!s.points) continue;
     for (std::size_t k = 0; k < std::min(s.x.size(), s.y.size()); ++k)
-      if (std::isfinite(s.x[k]) && f.has_y(s.y[k])) svg.circle(f.px(s.x[k]), f.py(s.y[k]), s.width + 1.2, s.color.hex());
+      if (f.has_x(s.x[k]) && f.has_y(s.y[k])) svg.circle(f.px(s.x[k]), f.py(s.y[k]), s.width + 1.2, s.color.hex());
   }
   double vmin = 0.0, vmax = 1.0;
   std::string colorbar_label;
@@ -300,7 +311,7 @@ SvgWriter Plot::render(double width, double height) const {
       run.clear();
     };
     for (std::size_t k = 1; k < n; ++k) {
-      const bool ok = std::isfinite(p.x[k - 1]) && std::isfinite(p.x[k]) && f.has_y(p.y[k - 1]) && f.has_y(p.y[k]) &&
+      const bool ok = f.has_x(p.x[k - 1]) && f.has_x(p.x[k]) && f.has_y(p.y[k - 1]) && f.has_y(p.y[k]) &&
                       std::isfinite(p.values[k]);
       if (!ok) {
         flush();
@@ -323,7 +334,7 @@ SvgWriter Plot::render(double width, double height) const {
   }
   const SvgWriter::Stroke halo{"#ffffff", 1.5, "", 1.0};
   for (const auto& m : markers_)
-    if (std::isfinite(m.x) && f.has_y(m.y)) svg.circle(f.px(m.x), f.py(m.y), 4.5, m.color.hex(), &halo);
+    if (f.has_x(m.x) && f.has_y(m.y)) svg.circle(f.px(m.x), f.py(m.y), 4.5, m.color.hex(), &halo);
   svg.end_group();
 
   // Frame, title, axis labels, legend.

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <set>
@@ -20,6 +21,7 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 template <int D>
 class Hierarchy {
@@ -346,7 +348,7 @@ double hierarchy_pass(PoseGraph& g, const HogmanOptions& o) {
   for (const GraphEdge& e : g.edges) h.add_edge(0, e);
   h.update_condensation();
   h.solve_top(o.top_init);
-  h.propagate_down(false, false);
+  h.propagate_down(o.batch_level_iterations, false);
   copy_poses<D>(h.fine(), g);
   return 1.0;
 }
@@ -368,6 +370,7 @@ HogmanOnlineResult online(PoseGraph& g, const HogmanOptions& o) {
   }
   for (std::size_t k = 0; k < order.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_seconds();
     GraphVertex v = g.vertices()[order[k]];
     // Initial guess from the earliest edge to a pose already there (the odometry, usually).
     for (int e : arriving[k]) {
@@ -388,11 +391,27 @@ HogmanOnlineResult online(PoseGraph& g, const HogmanOptions& o) {
     // intermediate levels get a few Gauss-Newton iterations as a whole.
     h.propagate_down(loop && o.online_level_iterations, true);
     r.time_per_pose_s.push_back(seconds_since(t0));
+    r.cpu_time_per_pose_s.push_back(cpu_seconds() - c0);
     r.graph_size.push_back(static_cast<int>(k + 1));
     r.top_solved.push_back(loop);
   }
-  copy_poses<D>(h.fine(), g);
   r.total_time_s = seconds_since(t_start);
+  r.chi2_before_final_pass = total_chi2(h.fine());
+  if (o.final_fine_pass) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_seconds();
+    h.solve_top(InitMethod::kNone);
+    h.propagate_down(true, true);
+    PoseGraphOptimizerOptions po;
+    po.init = InitMethod::kNone;
+    po.optimizer.algorithm = Algorithm::kGaussNewton;
+    po.optimizer.max_iterations = o.final_fine_iterations;
+    po.optimizer.num_threads = o.threads;
+    optimize_pose_graph(h.fine(), po);
+    r.final_pass_time_s = seconds_since(t0);
+    r.final_pass_cpu_time_s = cpu_seconds() - c0;
+  }
+  copy_poses<D>(h.fine(), g);
   r.final_chi2 = total_chi2(g);
   return r;
 }
@@ -402,11 +421,17 @@ HogmanOnlineResult online(PoseGraph& g, const HogmanOptions& o) {
 RelaxerSummary optimize_hogman(PoseGraph& g, const HogmanOptions& options) {
   check_options(options);
   const RelaxerGraph rg = make_relaxer_graph(g);
+  std::string fine_start = "the graph's estimates";
   auto step = [&](int iteration) -> double {
-    if (iteration == 1) return rg.dimension == 2 ? hierarchy_pass<3>(g, options) : hierarchy_pass<6>(g, options);
+    if (iteration == 1) {
+      if (options.fine_init != InitMethod::kNone)
+        fine_start = to_string(initialize_pose_graph(g, options.fine_init, gauge_vertices(g)).used);
+      return rg.dimension == 2 ? hierarchy_pass<3>(g, options) : hierarchy_pass<6>(g, options);
+    }
     PoseGraphOptimizerOptions po;
     po.init = InitMethod::kNone;
-    po.optimizer.algorithm = Algorithm::kGaussNewton;
+    po.optimizer.algorithm = options.fine_algorithm;
+    po.optimizer.function_tolerance = options.fine_function_tolerance;
     po.optimizer.num_threads = options.threads;
     optimize_pose_graph(g, po);
     return -1.0;  // the fine level is converged: done
@@ -414,7 +439,7 @@ RelaxerSummary optimize_hogman(PoseGraph& g, const HogmanOptions& options) {
   RelaxerSummary s = run_relaxer(g, "hogman", options.stop, step, [] {});
   s.num_loop_closures = rg.num_loop_closures;
   s.notes.push_back("levels above the pose graph: " + std::to_string(levels_for(g.vertices().size(), options)) +
-                    ", group size " + std::to_string(options.group_size));
+                    ", group size " + std::to_string(options.group_size) + "; fine level started from " + fine_start);
   return s;
 }
 

@@ -3,26 +3,17 @@
 #include <Eigen/Cholesky>
 #include <chrono>
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <deque>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "slamkit/core/error.h"
 #include "slamkit/core/pose_graph_error.h"
+#include "string_format.h"
 
 namespace slamkit {
 namespace {
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof(buf), fmt, args);
-  va_end(args);
-  return buf;
-}
+using detail::format;
 
 bool finite_pose(const GraphVertex& v) {
   if (v.kind == VertexKind::kPose2) return std::isfinite(v.pose2.x()) && std::isfinite(v.pose2.y()) && std::isfinite(v.pose2.theta());
@@ -107,6 +98,11 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
   bool go = !stop.callback || stop.callback(it0);
   if (!go) s.termination = "user callback";
   std::vector<GraphVertex> last = g.vertices();
+  // SGD and TORO are not monotone (a constraint's update may raise the others' error): the
+  // run returns the best iterate it visited, not the last.
+  std::vector<GraphVertex> best = g.vertices();
+  double best_chi2 = s.initial_chi2;
+  int best_iteration = 0;
   int flat = 0;
   for (int k = 1; go && k <= stop.max_iterations; ++k) {
     RelaxerIteration it;
@@ -128,6 +124,7 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
     s.trace.push_back(it);
     s.iterations = k;
     for (std::size_t i = 0; i < last.size(); ++i) last[i] = g.vertices()[i];
+    if (it.chi2 < best_chi2) best = last, best_chi2 = it.chi2, best_iteration = k;
     const double prev = s.trace[s.trace.size() - 2].chi2;
     flat = std::abs(prev - it.chi2) <= stop.relative_tolerance * std::max(it.chi2, 1e-300) ? flat + 1 : 0;
     if (stop.callback && !stop.callback(it)) {
@@ -148,6 +145,12 @@ RelaxerSummary run_relaxer(PoseGraph& g, const std::string& method, const Relaxe
     }
   }
   s.final_chi2 = s.trace.back().chi2;
+  if (best_chi2 < s.final_chi2) {
+    for (std::size_t i = 0; i < best.size(); ++i) g.vertex_at(i) = best[i];
+    s.notes.push_back(format("returned the best iterate (iteration %d, chi2 %.10g; the last had %.10g)", best_iteration,
+                             best_chi2, s.final_chi2));
+    s.final_chi2 = best_chi2;
+  }
   s.time_total_s = elapsed();
   return s;
 }

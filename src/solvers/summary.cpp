@@ -1,10 +1,10 @@
 #include "slamkit/solvers/summary.h"
 
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "string_format.h"
 
 namespace slamkit {
 
@@ -34,15 +34,7 @@ bool Summary::success() const {
 }
 
 namespace {
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof(buf), fmt, args);
-  va_end(args);
-  return buf;
-}
+using detail::format;
 const char* damping_label(Algorithm a) {
   switch (a) {
     case Algorithm::kGaussNewton: return "lambda";

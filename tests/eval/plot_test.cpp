@@ -87,6 +87,25 @@ TEST(Plot, DrawsEveryElementKind) {
   EXPECT_NE(empty.render(300, 200).str().find("no data"), std::string::npos);
 }
 
+TEST(Plot, LogXAxisHasDecadeTicksAndDropsNonPositiveX) {
+  Plot p("convergence", "time [s]", "chi2");
+  p.set_log_x(true);
+  p.set_log_y(true);
+  Plot::Series s;
+  s.label = "solver";
+  s.x = {0.0, 0.001, 0.01, 0.1, 2.0};  // t = 0 cannot be drawn on a log axis
+  s.y = {1e6, 1e4, 1e3, 200, 150};
+  p.add_series(s);
+  const std::string svg = p.render(600, 400).str();
+  for (const char* tick : {">0.001<", ">0.01<", ">0.1<", ">1<"}) EXPECT_NE(svg.find(tick), std::string::npos) << tick;
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+  EXPECT_EQ(svg.find("inf"), std::string::npos);
+  // The linear axis (the default) keeps t = 0 and its linear ticks.
+  Plot lin("convergence", "time [s]", "chi2");
+  lin.add_series(s);
+  EXPECT_NE(lin.render(600, 400).str().find(">0.0<"), std::string::npos);
+}
+
 TEST(Plot, ColouredPathHasAColourBarAndFewPolylines) {
   Plot p("path", "x [m]", "y [m]");
   p.set_equal_aspect(true);

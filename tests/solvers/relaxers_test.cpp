@@ -176,6 +176,31 @@ TEST(Sgd, ConvergesFromAllZeroPoses2D) {
   EXPECT_LT(s.final_chi2, 1e-3 * before) << s.report();
 }
 
+// A non-monotone method (SGD, TORO) ends with the best iterate it visited, not the last one:
+// here a scripted "method" that first halves the perturbation of pose 5, then doubles it twice.
+TEST(RunRelaxer, ReturnsTheBestIterateOfANonMonotoneMethod) {
+  PoseGraph g = loop_graph(2, true, 3);
+  const SE2 truth = loop_graph(2, true, 3).vertex(5).pose2;  // same perturbation; pose 5 moved below
+  GraphVertex& v = g.vertex_at(*g.index_of(5));
+  v.pose2 = truth.plus(Eigen::Vector3d(1.0, 0.0, 0.0));
+  double offset = 1.0;
+  auto step = [&](int k) {
+    offset = k == 1 ? offset * 0.25 : offset * 4.0;
+    g.vertex_at(*g.index_of(5)).pose2 = truth.plus(Eigen::Vector3d(offset, 0.0, 0.0));
+    return offset;
+  };
+  RelaxerStop stop = iterations(3);
+  stop.relative_tolerance = 0;
+  const RelaxerSummary s = run_relaxer(g, "scripted", stop, step, [] {});
+  ASSERT_EQ(s.trace.size(), 4u);
+  double best = s.trace[0].chi2;
+  for (const RelaxerIteration& it : s.trace) best = std::min(best, it.chi2);
+  EXPECT_LT(best, s.trace.back().chi2);
+  EXPECT_DOUBLE_EQ(s.final_chi2, best);
+  EXPECT_DOUBLE_EQ(total_chi2(g), best);  // the graph holds the best iterate
+  EXPECT_NEAR(g.vertex(5).pose2.x(), truth.plus(Eigen::Vector3d(0.25, 0.0, 0.0)).x(), 1e-12);
+}
+
 TEST(RelaxerGraph, LandmarksAreRefused) {
   PoseGraph g = loop_graph(2);
   GraphVertex p;

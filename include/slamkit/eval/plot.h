@@ -37,6 +37,8 @@ class Plot {
   Plot(std::string title, std::string x_label, std::string y_label);
 
   void set_log_y(bool on) { log_y_ = on; }
+  /// Logarithmic x axis (decade ticks); points with x ≤ 0 are left out.
+  void set_log_x(bool on) { log_x_ = on; }
   void set_equal_aspect(bool on) { equal_aspect_ = on; }
   /// Include y = 0 in the range (for error magnitudes).
   void set_y_from_zero(bool on) { y_from_zero_ = on; }
@@ -83,7 +85,7 @@ class Plot {
   struct Frame;  // pixel mapping, defined in plot.cpp
 
   std::string title_, x_label_, y_label_;
-  bool log_y_ = false, equal_aspect_ = false, y_from_zero_ = false;
+  bool log_y_ = false, log_x_ = false, equal_aspect_ = false, y_from_zero_ = false;
   std::vector<Series> series_;
   std::vector<HLine> hlines_;
   std::vector<Band> bands_;
