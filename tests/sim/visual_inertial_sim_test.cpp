@@ -139,7 +139,7 @@ TEST(VisualInertialSim, ObservationsReprojectTracksAndLabelsAreConsistent) {
   EXPECT_LT(worst, 6.0);  // 1 px noise: 6σ
   EXPECT_GT(worst, 2.0);  // and there is noise
   const SimSummary s = summarize(sim);
-  EXPECT_GT(s.features_per_frame_mean, 140.0);
+  EXPECT_GT(s.features_per_frame_mean, 120.0);  // the crowd hides part of the room
   EXPECT_GT(s.mean_track_length, 10.0);
   EXPECT_GT(s.dynamic_share, 0.0);
 }
