@@ -139,6 +139,15 @@ TEST(VisualInertialSimIo, MalformedFilesNameLineAndField) {
   }
 }
 
+TEST(VisualInertialSimIo, FuzzSeedIsAValidRun) {
+  const VisualInertialSim sim = read_visual_inertial_sim(std::string(SLAMKIT_SOURCE_DIR) + "/tests/fuzz/seeds/vi_sim/small.vis");
+  ASSERT_EQ(sim.frames.size(), 1u);
+  EXPECT_EQ(sim.frames[0].imu_index, 0u);
+  EXPECT_EQ(sim.frames[0].observations.size(), 2u);
+  EXPECT_TRUE(sim.frames[0].observations[1].dynamic);
+  EXPECT_EQ(sim.groups.size(), 1u);
+}
+
 TEST(VisualInertialSimIo, WriterRejectsNonFiniteValues) {
   VisualInertialSim sim = small_run(DynamicLevel::kNone);
   sim.imu[3].gyro.x() = NAN;
