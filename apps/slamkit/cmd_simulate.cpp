@@ -152,8 +152,9 @@ void run(const SimulateArgs& a) {
             << "  features/frame    mean " << std::setprecision(1) << s.features_per_frame_mean << ", min "
             << s.features_per_frame_min << "; " << s.tracks << " tracks, " << s.mean_track_length << " frames long\n"
             << std::setprecision(3) << "  dynamic share     " << s.dynamic_share << " of observations; static ratio M mean "
-            << s.static_ratio_mean << ", min " << s.static_ratio_min << ", " << s.frames_static_below_half
-            << " frames with M < 0.5\n"
+            << s.static_ratio_mean << ", min " << s.static_ratio_min << "; frames with dynamic features "
+            << s.frames_with_dynamic << ", with M < 0.9 / 0.7 / 0.5: " << s.frames_static_below_09 << " / "
+            << s.frames_static_below_07 << " / " << s.frames_static_below_half << "\n"
             << "  landmarks         " << s.static_landmarks << " static, " << s.dynamic_landmarks << " in " << s.groups
             << " moving groups\n"
             << "  spline fit        RMSE " << 1e3 * fit.position_rmse << " mm (max " << 1e3 * fit.position_max << "), "
@@ -178,7 +179,9 @@ void run(const SimulateArgs& a) {
     j["mean_track_length"] = s.mean_track_length;
     j["dynamic_share"] = s.dynamic_share;
     j["static_ratio"] = {{"mean", s.static_ratio_mean}, {"min", s.static_ratio_min}};
-    j["frames_static_below_half"] = s.frames_static_below_half;
+    j["frames_with_dynamic"] = s.frames_with_dynamic;
+    j["frames_static_below"] = {{"0.5", s.frames_static_below_half}, {"0.7", s.frames_static_below_07},
+                                {"0.9", s.frames_static_below_09}};
     j["landmarks"] = {{"static", s.static_landmarks}, {"dynamic", s.dynamic_landmarks}, {"groups", s.groups}};
     j["spline_fit"] = {{"knot_spacing_s", a.knot_spacing}, {"samples", fit.samples},
                        {"control_points", fit.control_points}, {"position_rmse_m", fit.position_rmse},

@@ -188,9 +188,12 @@ VisualInertialSim simulate_visual_inertial(const BSplineTrajectory& trajectory, 
   if (o.dynamic != DynamicLevel::kNone) {
     const bool high = o.dynamic == DynamicLevel::kHigh;
     std::uniform_real_distribution<double> window(5.0, 10.0), speed(0.5, 1.5);
-    std::uniform_real_distribution<double> passing(high ? 0.6 : 2.0, high ? 1.5 : 5.0), unit(0.0, 1.0);
+    std::uniform_real_distribution<double> passing(high ? o.passing_high_min : o.passing_low_min,
+                                                   high ? o.passing_high_max : o.passing_low_max);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double span = t_end - t_start;
-    const int count = std::max(1, static_cast<int>(std::ceil(span * (high ? 0.8 * 10.0 : 0.3) / 7.5)));
+    const double concurrent = high ? o.concurrent_groups_high : o.concurrent_groups_low;
+    const int count = std::max(1, static_cast<int>(std::ceil(span * concurrent / 7.5)));  // 7.5 s: mean window
     for (int g = 0; g < count; ++g) {
       SimMovingGroup grp;
       grp.id = g;
@@ -352,6 +355,8 @@ SimSummary summarize(const VisualInertialSim& sim) {
     s.static_ratio_min = std::min(s.static_ratio_min, M);
     ratio_sum += M;
     if (M < 0.5) ++s.frames_static_below_half;
+    if (M < 0.7) ++s.frames_static_below_07;
+    if (M < 0.9) ++s.frames_static_below_09;
   }
   if (!sim.frames.empty()) {
     s.features_per_frame_mean = static_cast<double>(all) / sim.frames.size();

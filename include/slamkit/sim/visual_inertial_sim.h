@@ -13,9 +13,9 @@
 // (wall_margin beyond the path's bounding box), and moving groups: rigid clusters of 20–50
 // points on a person-sized box (0.5 × 0.3 × 1.75 m) walking on a straight line at 0.5–1.5 m/s
 // across the camera's view (crossing its horizontal viewing direction at the middle of the
-// window), active in [t_on, t_off] for 5–10 s. Levels: none (no groups), low (one group in
-// view about 30 % of the time, passing 2–5 m in front), high (a crowd: about 6 groups at a
-// time for 80 % of the time, passing 0.7–1.8 m in front).
+// window), active in [t_on, t_off] for 5–10 s. Levels (options below): none (no groups), low
+// (0.9 groups active on average, passing 2–5 m in front), high (a crowd: 8 active on average,
+// passing 0.6–1.5 m in front).
 // A landmark is visible if it is 0.1–max_depth m in front (z_cam > 0), projects inside the
 // image (border_px), inside the fisheye mask circle (mask_radius_px around the principal
 // point, 0 = no mask), its group is active, and the segment from the camera to it does not
@@ -78,6 +78,11 @@ struct VisualInertialSimOptions {
   double ceiling_above = 1.0;        ///< m above the highest path point
   double landmark_density = 12.0;    ///< static landmarks per m² of wall, floor and ceiling
   double duration = 0.0;             ///< s from the spline's start; 0: the whole spline
+  /// Mean number of active moving groups (each active 5–10 s) and their passing distance in
+  /// front of the camera [m], per level.
+  double concurrent_groups_low = 0.9, concurrent_groups_high = 8.0;
+  double passing_low_min = 2.0, passing_low_max = 5.0;
+  double passing_high_min = 0.6, passing_high_max = 1.5;
 };
 
 /// True IMU/body state at one time.
@@ -162,6 +167,8 @@ struct SimSummary {
   double static_ratio_min = 1.0;     ///< min over frames of M = static / all
   double static_ratio_mean = 1.0;    ///< mean over frames of M
   std::size_t frames_static_below_half = 0;  ///< frames with M < 0.5
+  std::size_t frames_static_below_07 = 0;    ///< frames with M < 0.7
+  std::size_t frames_static_below_09 = 0;    ///< frames with M < 0.9
   std::size_t frames_with_dynamic = 0;
   double mean_track_length = 0.0;    ///< frames per track
   std::size_t tracks = 0;
