@@ -84,7 +84,7 @@ void write_plot(const VisualInertialSim& sim, const std::string& path) {
   svg.rect(X(lo.x()), Y(hi.y()), scale * (hi.x() - lo.x()), scale * (hi.y() - lo.y()), "none", &wall);
   svg.begin_group("landmarks");
   for (const auto& l : sim.landmarks)
-    if (l.group < 0 && l.id % 2 == 0) svg.circle(X(l.position.x()), Y(l.position.y()), 1.2, "#9a9a9a");
+    if (l.group < 0 && l.id % 3 == 0) svg.circle(X(l.position.x()), Y(l.position.y()), 1.2, "#9a9a9a");
   svg.end_group();
   svg.begin_group("groups");
   for (const auto& g : sim.groups) {
@@ -96,11 +96,11 @@ void write_plot(const VisualInertialSim& sim, const std::string& path) {
   std::vector<Point2> pts;
   for (const auto& x : sim.imu_truth) pts.emplace_back(X(x.p_world.x()), Y(x.p_world.y()));
   svg.begin_group("path");
-  svg.polyline(pts, SvgWriter::Stroke{"#1f77b4", 1.6});
+  svg.polyline(pts, SvgWriter::Stroke{"#1f77b4", 1.6}, 2.0);
   svg.end_group();
   SvgWriter::Text legend;
   legend.size = 11;
-  svg.text(margin, H - 16, "blue: IMU path · grey: static landmarks (every 2nd) · red: moving groups (walk, end dot) · box: walls; " +
+  svg.text(margin, H - 16, "blue: IMU path · grey: static landmarks (every 3rd) · red: moving groups (walk, end dot) · box: walls; " +
                                std::to_string(static_cast<int>(std::round(hi.x() - lo.x()))) + " m × " +
                                std::to_string(static_cast<int>(std::round(hi.y() - lo.y()))) + " m", legend);
   write_file_atomically(path, svg.str(), "plot");

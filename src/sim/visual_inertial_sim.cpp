@@ -212,9 +212,21 @@ VisualInertialSim simulate_visual_inertial(const BSplineTrajectory& trajectory, 
       const Eigen::Vector3d dir(std::cos(heading), std::sin(heading), 0.0);
       const double v = speed(group_rng);
       Eigen::Vector3d mid = T_mid.translation() + passing(group_rng) * view;
+      // People stay inside the room: the crossing point is clamped into the floor (0.3 m from
+      // the walls) and the window cut to the time the walk spends inside.
+      constexpr double kWallGap = 0.3;
+      for (int i = 0; i < 2; ++i) mid(i) = std::clamp(mid(i), box.lo(i) + kWallGap, box.hi(i) - kWallGap);
       mid.z() = box.lo.z();  // feet on the floor
       grp.velocity = v * dir;
-      grp.start = mid - grp.velocity * (0.5 * len);
+      const double t_mid = 0.5 * (grp.t_on + grp.t_off);
+      for (int i = 0; i < 2; ++i) {
+        if (std::abs(grp.velocity(i)) < 1e-9) continue;
+        double a = t_mid + (box.lo(i) + kWallGap - mid(i)) / grp.velocity(i);
+        double b = t_mid + (box.hi(i) - kWallGap - mid(i)) / grp.velocity(i);
+        if (a > b) std::swap(a, b);
+        grp.t_on = std::max(grp.t_on, a), grp.t_off = std::min(grp.t_off, b);
+      }
+      grp.start = mid + grp.velocity * (grp.t_on - t_mid);
       grp.yaw = heading;
       sim.groups.push_back(grp);
       add_group_landmarks(g, group_rng, &sim.landmarks);

@@ -136,6 +136,17 @@ TEST(VisualInertialSim, ObservationsReprojectTracksAndLabelsAreConsistent) {
       last_frame_of_track[obs.track_id] = f;
     }
   }
+  // People walk inside the room (the box of the static landmarks).
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  for (const SimLandmark& l : sim.landmarks)
+    if (l.group < 0) lo = lo.cwiseMin(l.position), hi = hi.cwiseMax(l.position);
+  ASSERT_FALSE(sim.groups.empty());
+  for (const SimMovingGroup& g : sim.groups)
+    for (const double t : {g.t_on, g.t_off}) {
+      const Eigen::Vector3d p = g.pose(t).translation();
+      EXPECT_TRUE(p.x() >= lo.x() && p.x() <= hi.x() && p.y() >= lo.y() && p.y() <= hi.y()) << p.transpose();
+      EXPECT_NEAR(p.z(), lo.z(), 1e-9);
+    }
   EXPECT_LT(worst, 6.0);  // 1 px noise: 6σ
   EXPECT_GT(worst, 2.0);  // and there is noise
   const SimSummary s = summarize(sim);

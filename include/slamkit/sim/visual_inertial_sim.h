@@ -13,7 +13,8 @@
 // (wall_margin beyond the path's bounding box), and moving groups: rigid clusters of 20–50
 // points on a person-sized box (0.5 × 0.3 × 1.75 m) walking on a straight line at 0.5–1.5 m/s
 // across the camera's view (crossing its horizontal viewing direction at the middle of the
-// window), active in [t_on, t_off] for 5–10 s. Levels (options below): none (no groups), low
+// window, clamped to stay 0.3 m inside the walls), active in [t_on, t_off] for up to 5–10 s
+// (cut to the time the walk stays inside the room). Levels (options below): none (no groups), low
 // (0.9 groups active on average, passing 2–5 m in front), high (a crowd: 8 active on average,
 // passing 0.6–1.5 m in front).
 // A landmark is visible if it is 0.1–max_depth m in front (z_cam > 0), projects inside the
