@@ -236,6 +236,12 @@ VisualInertialSim read_visual_inertial_sim(std::istream& in, const std::string& 
     if (it == sim.imu.end() || it->t != frame.t)
       throw InputError(source, frame_lines[f].line, "t", "frame time is not the time of an IMU sample");
     frame.imu_index = static_cast<std::size_t>(it - sim.imu.begin());
+    // Frames come every N IMU samples (N from the first two): a gap is a missing frame.
+    if (f >= 2 && frame.imu_index - sim.frames[f - 1].imu_index != sim.frames[1].imu_index - sim.frames[0].imu_index)
+      throw InputError(source, frame_lines[f].line, "t",
+                       "missing frame: frames are " + std::to_string(sim.frames[1].imu_index - sim.frames[0].imu_index) +
+                           " IMU samples apart, this one is " +
+                           std::to_string(frame.imu_index - sim.frames[f - 1].imu_index) + " after the previous");
     frame.truth = sim.imu_truth[frame.imu_index];
     for (const SimObservation& o : frame.observations) {
       const int line = obs_lines[k++];

@@ -139,6 +139,15 @@ TEST(VisualInertialSimIo, MalformedFilesNameLineAndField) {
   }
 }
 
+TEST(VisualInertialSimIo, MissingFrameIsAnError) {
+  VisualInertialSim sim = small_run(DynamicLevel::kNone);
+  ASSERT_GT(sim.frames.size(), 6u);
+  sim.frames.erase(sim.frames.begin() + 5);
+  EXPECT_NE(error_of(text_of(sim)).find("field 't': missing frame: frames are 10 IMU samples apart, this one is 20"),
+            std::string::npos)
+      << error_of(text_of(sim));
+}
+
 TEST(VisualInertialSimIo, FuzzSeedIsAValidRun) {
   const VisualInertialSim sim = read_visual_inertial_sim(std::string(SLAMKIT_SOURCE_DIR) + "/tests/fuzz/seeds/vi_sim/small.vis");
   ASSERT_EQ(sim.frames.size(), 1u);
