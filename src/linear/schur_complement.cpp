@@ -553,6 +553,33 @@ void SchurComplementSolver::solve(const double* b, double* x) {
     for (int a = 0; a < m.kd[s]; ++a) x[m.k_start[s] + a] = m.xk[m.s_start[s] + a];
 }
 
+bool SchurComplementSolver::reduced_system(const BlockSparseMatrix& A, const double* b, Eigen::MatrixXd* S,
+                                           Eigen::VectorXd* rhs) {
+  Impl& m = *impl_;
+  if (m.A == nullptr || A.rows() != m.A->rows()) throw std::logic_error("SchurComplementSolver::reduced_system before analyze");
+  if (method_ != SchurMethod::kDense) throw std::logic_error("SchurComplementSolver::reduced_system needs the dense method");
+  m.A = &A;
+  bool good = true;
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    good = m.template invert_c<edim>(0, m.ne);
+    if (!good) return;
+    m.template form_dense<kd, edim>(pool_);
+    const int de = m.ne > 0 ? m.ed[0] : 0;
+    for (int e = 0; e < m.ne; ++e)
+      for (int a = 0; a < de; ++a) m.work_e[e * de + a] = b[m.e_start[e] + a];
+    Eigen::VectorXd bk(m.nS);
+    for (int s = 0; s < m.nk; ++s)
+      for (int a = 0; a < m.kd[s]; ++a) bk[m.s_start[s] + a] = b[m.k_start[s] + a];
+    m.template eliminated_solve<kd, edim>(pool_, m.work_e.data(), nullptr, m.ye.data());
+    m.template kept_gather<kd, edim>(pool_, bk.data(), nullptr, m.ye.data(), m.rk.data());
+  });
+  if (!good) return false;
+  *S = m.dense.selfadjointView<Eigen::Lower>();
+  *rhs = m.rk;
+  return true;
+}
+
 Eigen::MatrixXd SchurComplementSolver::solve(const Eigen::MatrixXd& B) {
   Eigen::MatrixXd X(B.rows(), B.cols());
   for (Eigen::Index c = 0; c < B.cols(); ++c) solve(B.col(c).data(), X.col(c).data());
