@@ -17,5 +17,7 @@ void add_compare_command(CLI::App& app);   // cmd_compare.cpp: compare FILE --so
 // evaluation and reports (issue: trajectory evaluation)
 void add_eval_command(CLI::App& app);    // cmd_eval.cpp: eval ate|rpe
 void add_report_command(CLI::App& app);  // cmd_report.cpp: report RUN.json... -o report.html
+// visual-inertial simulation (issue 12)
+void add_simulate_command(CLI::App& app);  // cmd_simulate.cpp: simulate --vi room1 -o run.vis
 
 }  // namespace slamkit::cli

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   // evaluation and reports
   slamkit::cli::add_eval_command(app);
   slamkit::cli::add_report_command(app);
+  // visual-inertial simulation
+  slamkit::cli::add_simulate_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,215 @@
+// slamkit simulate --vi room1|...|euroc:V1_01|FILE.tum: fits a B-spline to a real path, runs
+// the visual-inertial simulator on it (TUM-VI fisheye and IMU noise, or EuRoC radtan for the
+// euroc: paths) and writes the run in the slamkit simulation format (docs/formats.md), with a
+// summary, JSON (--json), the true trajectory at the camera times (--truth, TUM) and a top
+// view of the room (--plot, SVG). See docs/simulator.md.
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "slamkit/eval/svg.h"
+#include "slamkit/io/kalibr_calibration.h"
+#include "slamkit/io/trajectory_io.h"
+#include "slamkit/io/visual_inertial_sim_io.h"
+#include "slamkit/sim/visual_inertial_sim.h"
+
+namespace slamkit::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SimulateArgs {
+  std::string vi, output, json, truth, plot, dynamic = "none", data;
+  std::uint64_t seed = 1;
+  double duration = 0.0, knot_spacing = 0.1;
+};
+
+// Where a named path and its sensors come from, in ../shared/datasets/vio.
+struct SimSource {
+  fs::path path, camchain, imu;
+  double mask_radius = 0.0;
+};
+
+fs::path data_root(const std::string& option) {
+  if (!option.empty()) return option;
+  const char* env = std::getenv("SLAMKIT_DATA");
+  return env && *env ? fs::path(env) : fs::path("../shared/datasets");
+}
+
+SimSource resolve(const std::string& spec, const fs::path& root) {
+  const fs::path vio = root / "vio";
+  const fs::path tumvi_chain = vio / "tumvi/calib/openvins_kalibr_imucam_chain.yaml";
+  const fs::path tumvi_imu = vio / "tumvi/calib/openvins_kalibr_imu_chain.yaml";
+  // The TUM-VI cam0 mask (openvins_mask_tumvi0.png) hides pixels beyond 304–310 px from the
+  // principal point; 300 px keeps features off its border.
+  constexpr double kTumViMask = 300.0;
+  static const std::map<std::string, std::string> rooms = {
+      {"room1", "dataset-room1_512_16.csv"}, {"room2", "dataset-room2_512_16.csv"},
+      {"room3", "dataset-room3_512_16.csv"}, {"room4", "dataset-room4_512_16.csv"}};
+  static const std::map<std::string, std::string> euroc = {{"euroc:V1_01", "V1_01_easy_gt_20hz.csv"},
+                                                           {"euroc:V1_02", "V1_02_medium_gt.csv"},
+                                                           {"euroc:V2_03", "V2_03_difficult_gt.csv"}};
+  if (const auto it = rooms.find(spec); it != rooms.end())
+    return {vio / "tumvi/gt" / it->second, tumvi_chain, tumvi_imu, kTumViMask};
+  if (const auto it = euroc.find(spec); it != euroc.end())
+    return {vio / "euroc/gt" / it->second, vio / "euroc/calib/openvins_kalibr_imucam_chain.yaml",
+            vio / "euroc/calib/openvins_kalibr_imu_chain.yaml", 0.0};
+  if (spec.rfind("euroc:", 0) == 0 || (spec.rfind("room", 0) == 0 && !fs::exists(spec)))
+    throw InputError("", 0, "vi", "unknown sequence '" + spec + "' (room1..room4, euroc:V1_01, euroc:V1_02, euroc:V2_03 or a trajectory file)");
+  return {spec, tumvi_chain, tumvi_imu, kTumViMask};
+}
+
+// Top view (x–y) of the room: walls as the box outline, static landmarks, the path and the
+// moving groups' walks.
+void write_plot(const VisualInertialSim& sim, const std::string& path) {
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& l : sim.landmarks)
+    if (l.group < 0) lo = lo.cwiseMin(l.position.head<2>()), hi = hi.cwiseMax(l.position.head<2>());
+  const double W = 720, margin = 40, scale = (W - 2 * margin) / std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  const double H = 2 * margin + scale * (hi.y() - lo.y()) + 40;
+  const auto X = [&](double x) { return margin + scale * (x - lo.x()); };
+  const auto Y = [&](double y) { return H - 40 - margin - scale * (y - lo.y()) + 0.0; };
+  SvgWriter svg(W, H);
+  svg.rect(0, 0, W, H, "#ffffff");
+  SvgWriter::Text title;
+  title.size = 14, title.bold = true;
+  svg.text(margin, 24, "slamkit simulate: " + sim.source + " (dynamic " + to_string(sim.dynamic) + ", seed " +
+                           std::to_string(sim.seed) + "), top view", title);
+  SvgWriter::Stroke wall{"#444444", 1.5};
+  svg.rect(X(lo.x()), Y(hi.y()), scale * (hi.x() - lo.x()), scale * (hi.y() - lo.y()), "none", &wall);
+  svg.begin_group("landmarks");
+  for (const auto& l : sim.landmarks)
+    if (l.group < 0 && l.id % 2 == 0) svg.circle(X(l.position.x()), Y(l.position.y()), 1.2, "#9a9a9a");
+  svg.end_group();
+  svg.begin_group("groups");
+  for (const auto& g : sim.groups) {
+    const Eigen::Vector3d a = g.pose(g.t_on).translation(), b = g.pose(g.t_off).translation();
+    svg.line(X(a.x()), Y(a.y()), X(b.x()), Y(b.y()), SvgWriter::Stroke{"#d62728", 2.0, "", 0.6});
+    svg.circle(X(b.x()), Y(b.y()), 3.0, "#d62728");
+  }
+  svg.end_group();
+  std::vector<Point2> pts;
+  for (const auto& x : sim.imu_truth) pts.emplace_back(X(x.p_world.x()), Y(x.p_world.y()));
+  svg.begin_group("path");
+  svg.polyline(pts, SvgWriter::Stroke{"#1f77b4", 1.6});
+  svg.end_group();
+  SvgWriter::Text legend;
+  legend.size = 11;
+  svg.text(margin, H - 16, "blue: IMU path · grey: static landmarks (every 2nd) · red: moving groups (walk, end dot) · box: walls; " +
+                               std::to_string(static_cast<int>(std::round(hi.x() - lo.x()))) + " m × " +
+                               std::to_string(static_cast<int>(std::round(hi.y() - lo.y()))) + " m", legend);
+  write_file_atomically(path, svg.str(), "plot");
+}
+
+void run(const SimulateArgs& a) {
+  check_outputs({{&a.output, "-o"}, {&a.json, "--json"}, {&a.truth, "--truth"}, {&a.plot, "--plot"}});
+  const Stopwatch clock;
+  VisualInertialSimOptions opt;
+  opt.seed = a.seed;
+  opt.dynamic = parse_dynamic_level(a.dynamic);
+  opt.duration = a.duration;
+  const SimSource src = resolve(a.vi, data_root(a.data));
+  const CameraCalibration cam = read_kalibr_camchain(src.camchain.string()).at(0);
+  const ImuCalibration imu = read_kalibr_imu(src.imu.string());
+  opt.imu_noise = ImuNoiseDensities{imu.gyroscope_noise_density, imu.gyroscope_random_walk,
+                                    imu.accelerometer_noise_density, imu.accelerometer_random_walk};
+  opt.imu_rate = imu.update_rate;
+  opt.mask_radius_px = src.mask_radius;
+  std::cerr << "simulate: fitting a cubic B-spline (knots every " << a.knot_spacing << " s) to " << src.path.string() << "\n";
+  const Trajectory path = read_trajectory(src.path.string());
+  BSplineFitOptions fit_opt;
+  fit_opt.knot_spacing = a.knot_spacing;
+  BSplineFitReport fit;
+  const BSplineTrajectory spline = BSplineTrajectory::fit(path, fit_opt, &fit);
+  std::cerr << "simulate: " << fit.samples << " poses, " << fit.control_points << " control points, fit RMSE "
+            << 1e3 * fit.position_rmse << " mm / " << fit.rotation_rmse * 180 / M_PI << " deg; simulating "
+            << cam.name << " (" << cam.distortion_model << ") and the IMU\n";
+  VisualInertialSim sim = simulate_visual_inertial(spline, cam.model, cam.T_cam_imu, opt);
+  sim.source = a.vi;
+  const SimSummary s = summarize(sim);
+  write_visual_inertial_sim(a.output, sim);
+  if (!a.truth.empty()) {
+    Trajectory truth;
+    for (const SimFrame& f : sim.frames) {
+      TrajectorySample x;
+      x.stamp = f.t;
+      x.T_world_body = SE3(SO3(f.truth.q_world_imu), f.truth.p_world);
+      truth.push_back(x);
+    }
+    write_trajectory(a.truth, truth, TrajectoryFormat::kTum);
+  }
+  if (!a.plot.empty()) write_plot(sim, a.plot);
+  const double seconds = clock.seconds();
+  std::cout << std::fixed << std::setprecision(3) << "simulated " << a.vi << " (dynamic " << a.dynamic << ", seed " << a.seed
+            << ") -> " << a.output << "\n"
+            << "  duration          " << s.duration << " s, " << s.frames << " frames (20 Hz), " << s.imu_samples
+            << " IMU samples\n"
+            << "  features/frame    mean " << std::setprecision(1) << s.features_per_frame_mean << ", min "
+            << s.features_per_frame_min << "; " << s.tracks << " tracks, " << s.mean_track_length << " frames long\n"
+            << std::setprecision(3) << "  dynamic share     " << s.dynamic_share << " of observations; static ratio M mean "
+            << s.static_ratio_mean << ", min " << s.static_ratio_min << ", " << s.frames_static_below_half
+            << " frames with M < 0.5\n"
+            << "  landmarks         " << s.static_landmarks << " static, " << s.dynamic_landmarks << " in " << s.groups
+            << " moving groups\n"
+            << "  spline fit        RMSE " << 1e3 * fit.position_rmse << " mm (max " << 1e3 * fit.position_max << "), "
+            << fit.rotation_rmse * 180 / M_PI << " deg (max " << fit.rotation_max * 180 / M_PI << ")\n"
+            << "  time              " << seconds << " s\n";
+  if (!a.json.empty()) {
+    nlohmann::json j;
+    j["kind"] = "simulate";
+    j["schema"] = 1;
+    j["source"] = a.vi;
+    j["path"] = src.path.string();
+    j["output"] = a.output;
+    j["seed"] = a.seed;
+    j["dynamic"] = a.dynamic;
+    j["camera"] = {{"model", cam.distortion_model}, {"width", cam.width}, {"height", cam.height},
+                   {"mask_radius_px", src.mask_radius}};
+    j["duration_s"] = s.duration;
+    j["frames"] = s.frames;
+    j["imu_samples"] = s.imu_samples;
+    j["features_per_frame"] = {{"mean", s.features_per_frame_mean}, {"min", s.features_per_frame_min}};
+    j["tracks"] = s.tracks;
+    j["mean_track_length"] = s.mean_track_length;
+    j["dynamic_share"] = s.dynamic_share;
+    j["static_ratio"] = {{"mean", s.static_ratio_mean}, {"min", s.static_ratio_min}};
+    j["frames_static_below_half"] = s.frames_static_below_half;
+    j["landmarks"] = {{"static", s.static_landmarks}, {"dynamic", s.dynamic_landmarks}, {"groups", s.groups}};
+    j["spline_fit"] = {{"knot_spacing_s", a.knot_spacing}, {"samples", fit.samples},
+                       {"control_points", fit.control_points}, {"position_rmse_m", fit.position_rmse},
+                       {"position_max_m", fit.position_max}, {"rotation_rmse_deg", fit.rotation_rmse * 180 / M_PI},
+                       {"rotation_max_deg", fit.rotation_max * 180 / M_PI}};
+    j["time_s"] = seconds;
+    write_json(a.json, j);
+  }
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App& app) {
+  auto args = std::make_shared<SimulateArgs>();
+  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a visual-inertial run on a real path (docs/simulator.md)");
+  cmd->add_option("--vi", args->vi, "room1..room4, euroc:V1_01, euroc:V1_02, euroc:V2_03, or a trajectory file (TUM, EuRoC CSV)")
+      ->required();
+  cmd->add_option("--seed", args->seed, "random seed")->capture_default_str();
+  cmd->add_option("--dynamic", args->dynamic, "moving groups: none, low or high")
+      ->check(CLI::IsMember({"none", "low", "high"}))
+      ->capture_default_str();
+  cmd->add_option("-o,--output", args->output, "simulation file to write (docs/formats.md)")->required();
+  cmd->add_option("--json", args->json, "summary as JSON");
+  cmd->add_option("--truth", args->truth, "true IMU poses at the camera times (TUM)");
+  cmd->add_option("--plot", args->plot, "top view of the room (SVG)");
+  cmd->add_option("--duration", args->duration, "seconds from the start (0: the whole path)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--knot-spacing", args->knot_spacing, "B-spline knot spacing [s]")
+      ->check(CLI::Range(0.01, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--data", args->data, "datasets folder (default: $SLAMKIT_DATA or ../shared/datasets)");
+  cmd->callback([args]() { run(*args); });
+}
+
+}  // namespace slamkit::cli
