@@ -67,7 +67,7 @@ struct SchurComplementSolver::Impl {
   std::vector<int> bf_ptr;  // row s of B, both triangles (for products)
   std::vector<BEntry> bf;
   std::vector<std::ptrdiff_t> cinv_off;
-  int kind = 0;  // 1: kept 9 / elim 3, 2: kept 6 / elim 3, 3: kept 6 / elim 1, 0: general
+  int kind = 0;  // 1: kept 9 / elim 3, 2: kept 6 / elim 3, 3: kept 6 / elim 1, 4: kept 15 / elim 1 (VIO), 0: general
 
   // ---- numeric ----
   std::vector<double> cinv;  // C_e⁻¹ per eliminated block
@@ -85,6 +85,7 @@ struct SchurComplementSolver::Impl {
       case 1: return f(std::integral_constant<int, 9>{}, std::integral_constant<int, 3>{});
       case 2: return f(std::integral_constant<int, 6>{}, std::integral_constant<int, 3>{});
       case 3: return f(std::integral_constant<int, 6>{}, std::integral_constant<int, 1>{});
+      case 4: return f(std::integral_constant<int, 15>{}, std::integral_constant<int, 1>{});
       default: return f(std::integral_constant<int, Dyn>{}, std::integral_constant<int, Dyn>{});
     }
   }
@@ -355,7 +356,7 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
   m.e_ptr.assign(m.ne + 1, 0);
   m.cinv_off.resize(m.ne + 1);
   std::vector<int> k_count(m.nk + 1, 0);
-  bool k93 = true, k63 = true, k61 = true;
+  bool k93 = true, k63 = true, k61 = true, k151 = true;
   std::ptrdiff_t coff = 0;
   for (int b = 0; b < nb; ++b) {
     if (!eliminate_[b]) continue;
@@ -373,7 +374,7 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
       ++k_count[s + 1];
     }
     m.e_ptr[e + 1] = static_cast<int>(m.e_kept.size());
-    k93 = k93 && m.ed[e] == 3, k63 = k63 && m.ed[e] == 3, k61 = k61 && m.ed[e] == 1;
+    k93 = k93 && m.ed[e] == 3, k63 = k63 && m.ed[e] == 3, k61 = k61 && m.ed[e] == 1, k151 = k151 && m.ed[e] == 1;
   }
   m.cinv_off[m.ne] = coff;
   // Eliminated storage of a vector: block e at cinv_off[e] / ed[e] only works when all dims are equal;
@@ -384,9 +385,9 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
     if (!equal) throw std::invalid_argument("SchurComplementSolver: eliminated blocks must all have the same size");
   }
   for (int s = 0; s < m.nk; ++s) {
-    k93 = k93 && m.kd[s] == 9, k63 = k63 && m.kd[s] == 6, k61 = k61 && m.kd[s] == 6;
+    k93 = k93 && m.kd[s] == 9, k63 = k63 && m.kd[s] == 6, k61 = k61 && m.kd[s] == 6, k151 = k151 && m.kd[s] == 15;
   }
-  m.kind = k93 ? 1 : k63 ? 2 : k61 ? 3 : 0;
+  m.kind = k93 ? 1 : k63 ? 2 : k61 ? 3 : k151 ? 4 : 0;
   m.k_ptr.assign(m.nk + 1, 0);
   for (int s = 0; s < m.nk; ++s) m.k_ptr[s + 1] = m.k_ptr[s] + k_count[s + 1];
   m.k_elim.resize(m.e_kept.size()), m.k_slot.resize(m.e_kept.size());
