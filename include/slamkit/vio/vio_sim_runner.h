@@ -6,6 +6,7 @@
 // runs have none.
 #pragma once
 
+#include <ctime>
 #include <functional>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@ struct VioRunResult {
   std::vector<FrameEstimate> frames;
   double initialized_at_s = 0.0;  ///< time of the first state (from the start of the run)
   double wall_time_s = 0.0;
+  double cpu_time_s = 0.0;  ///< process CPU time of the run (the machine may be shared)
   double sequence_duration_s = 0.0;
   std::size_t keyframes = 0;
   double features_per_frame = 0.0;
