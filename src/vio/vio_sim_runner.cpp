@@ -7,6 +7,8 @@
 namespace slamkit {
 namespace {
 
+constexpr double excitation_window_s = 1.0, min_accel_excitation = 0.25;  // [s], [m/s²] (VINS-Mono's check)
+
 TrajectorySample sample_of(double t, const ImuState& s) {
   TrajectorySample x;
   x.stamp = t;
@@ -40,14 +42,37 @@ VioRunResult run_vio_on_sim(const VisualInertialSim& sim, SlidingWindowOptions o
   VioRunResult out;
   const auto t_wall = std::chrono::steady_clock::now();
   const std::clock_t t_cpu = std::clock();
-  const SimFrame& first = sim.frames.front();
+  // Start at the first frame after which the IMU shows motion (as VINS-Mono waits for
+  // excitation): a sensor at rest gives the window no parallax, and the accelerometer bias
+  // then goes unobserved. Uses the IMU only.
+  std::size_t start = 0;
+  for (std::size_t i = 0; start == 0 && i + 1 < sim.imu.size(); ++i) {
+    if (sim.imu[i].t < sim.frames.front().t + excitation_window_s) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    std::size_t n = 0;
+    for (std::size_t j = i; j > 0 && sim.imu[j].t > sim.imu[i].t - excitation_window_s; --j) mean += sim.imu[j].accel, ++n;
+    mean /= static_cast<double>(n);
+    double var = 0.0;
+    for (std::size_t j = i; j > 0 && sim.imu[j].t > sim.imu[i].t - excitation_window_s; --j)
+      var += (sim.imu[j].accel - mean).squaredNorm();
+    if (std::sqrt(var / n) < min_accel_excitation) continue;
+    for (std::size_t k = 0; k < sim.frames.size(); ++k)
+      if (sim.frames[k].t >= sim.imu[i].t - excitation_window_s) {
+        start = std::max<std::size_t>(k, 0);
+        break;
+      }
+    if (start == 0) break;  // moving from the first frame on
+  }
+  if (start + 2 > sim.frames.size()) throw InputError(sim.source, 0, "imu", "the run never moves: nothing to initialize on");
+  const SimFrame& first = sim.frames[start];
   est.initialize(first.t, state_of(first.truth));
   out.initialized_at_s = first.t - sim.imu.front().t;
   out.estimate.push_back(sample_of(first.t, state_of(first.truth)));
   out.truth.push_back(sample_of(first.t, state_of(first.truth)));
   std::size_t next_imu = 0;
+  while (next_imu < sim.imu.size() && sim.imu[next_imu].t < first.t - 0.05) ++next_imu;
   double features = 0.0;
-  for (std::size_t k = 0; k < sim.frames.size(); ++k) {
+  for (std::size_t k = start; k < sim.frames.size(); ++k) {
     const SimFrame& f = sim.frames[k];
     // IMU up to and including the sample at the frame time (and one beyond, if any).
     while (next_imu < sim.imu.size() && sim.imu[next_imu].t <= f.t + 1e-9) {
@@ -56,7 +81,7 @@ VioRunResult run_vio_on_sim(const VisualInertialSim& sim, SlidingWindowOptions o
       est.add_imu(m);
       ++next_imu;
     }
-    if (k == 0) continue;
+    if (k == start) continue;
     CameraFrame cf;
     cf.stamp = f.t;
     for (const SimObservation& o : f.observations)
@@ -76,7 +101,7 @@ VioRunResult run_vio_on_sim(const VisualInertialSim& sim, SlidingWindowOptions o
   out.features_per_frame = features / std::max<std::size_t>(1, out.frames.size());
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wall).count();
   out.cpu_time_s = static_cast<double>(std::clock() - t_cpu) / CLOCKS_PER_SEC;
-  out.sequence_duration_s = sim.frames.back().t - sim.frames.front().t;
+  out.sequence_duration_s = sim.frames.back().t - first.t;
   return out;
 }
 

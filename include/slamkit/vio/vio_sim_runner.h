@@ -1,7 +1,9 @@
 // Runs the sliding-window estimator on a simulated visual-inertial run (sim/visual_inertial_sim.h):
 // the IMU and the camera observations in time order, the estimate and the truth of every frame
-// as trajectories, and the timings. Start-up: the estimator starts at the first frame from the
-// true state there (pose, velocity, biases set to zero); no ground truth is used afterwards.
+// as trajectories, and the timings. Start-up: the estimator starts at the first frame after
+// which the IMU shows motion (accelerometer std over the last 1 s ≥ 0.25 m/s², VINS-Mono's
+// excitation check; EuRoC's MAVs stand still at first), from the true state there (pose,
+// velocity; biases set to zero); no ground truth is used afterwards.
 // Dynamic observations are used like static ones (the labels are not read): the static-scene
 // runs have none.
 #pragma once
