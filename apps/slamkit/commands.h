@@ -19,5 +19,6 @@ void add_eval_command(CLI::App& app);    // cmd_eval.cpp: eval ate|rpe
 void add_report_command(CLI::App& app);  // cmd_report.cpp: report RUN.json... -o report.html
 // visual-inertial simulation (issue 12)
 void add_simulate_command(CLI::App& app);  // cmd_simulate.cpp: simulate --vi room1 -o run.vis
+void add_vio_command(CLI::App& app);       // cmd_vio.cpp: vio --sim run.vis
 
 }  // namespace slamkit::cli

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   slamkit::cli::add_report_command(app);
   // visual-inertial simulation
   slamkit::cli::add_simulate_command(app);
+  slamkit::cli::add_vio_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -67,7 +67,7 @@ struct SchurComplementSolver::Impl {
   std::vector<int> bf_ptr;  // row s of B, both triangles (for products)
   std::vector<BEntry> bf;
   std::vector<std::ptrdiff_t> cinv_off;
-  int kind = 0;  // 1: kept 9 / elim 3, 2: kept 6 / elim 3, 3: kept 6 / elim 1, 0: general
+  int kind = 0;  // 1: kept 9 / elim 3, 2: kept 6 / elim 3, 3: kept 6 / elim 1, 4: kept 15 / elim 1 (VIO), 0: general
 
   // ---- numeric ----
   std::vector<double> cinv;  // C_e⁻¹ per eliminated block
@@ -85,6 +85,7 @@ struct SchurComplementSolver::Impl {
       case 1: return f(std::integral_constant<int, 9>{}, std::integral_constant<int, 3>{});
       case 2: return f(std::integral_constant<int, 6>{}, std::integral_constant<int, 3>{});
       case 3: return f(std::integral_constant<int, 6>{}, std::integral_constant<int, 1>{});
+      case 4: return f(std::integral_constant<int, 15>{}, std::integral_constant<int, 1>{});
       default: return f(std::integral_constant<int, Dyn>{}, std::integral_constant<int, Dyn>{});
     }
   }
@@ -355,7 +356,7 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
   m.e_ptr.assign(m.ne + 1, 0);
   m.cinv_off.resize(m.ne + 1);
   std::vector<int> k_count(m.nk + 1, 0);
-  bool k93 = true, k63 = true, k61 = true;
+  bool k93 = true, k63 = true, k61 = true, k151 = true;
   std::ptrdiff_t coff = 0;
   for (int b = 0; b < nb; ++b) {
     if (!eliminate_[b]) continue;
@@ -373,7 +374,7 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
       ++k_count[s + 1];
     }
     m.e_ptr[e + 1] = static_cast<int>(m.e_kept.size());
-    k93 = k93 && m.ed[e] == 3, k63 = k63 && m.ed[e] == 3, k61 = k61 && m.ed[e] == 1;
+    k93 = k93 && m.ed[e] == 3, k63 = k63 && m.ed[e] == 3, k61 = k61 && m.ed[e] == 1, k151 = k151 && m.ed[e] == 1;
   }
   m.cinv_off[m.ne] = coff;
   // Eliminated storage of a vector: block e at cinv_off[e] / ed[e] only works when all dims are equal;
@@ -384,9 +385,9 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
     if (!equal) throw std::invalid_argument("SchurComplementSolver: eliminated blocks must all have the same size");
   }
   for (int s = 0; s < m.nk; ++s) {
-    k93 = k93 && m.kd[s] == 9, k63 = k63 && m.kd[s] == 6, k61 = k61 && m.kd[s] == 6;
+    k93 = k93 && m.kd[s] == 9, k63 = k63 && m.kd[s] == 6, k61 = k61 && m.kd[s] == 6, k151 = k151 && m.kd[s] == 15;
   }
-  m.kind = k93 ? 1 : k63 ? 2 : k61 ? 3 : 0;
+  m.kind = k93 ? 1 : k63 ? 2 : k61 ? 3 : k151 ? 4 : 0;
   m.k_ptr.assign(m.nk + 1, 0);
   for (int s = 0; s < m.nk; ++s) m.k_ptr[s + 1] = m.k_ptr[s] + k_count[s + 1];
   m.k_elim.resize(m.e_kept.size()), m.k_slot.resize(m.e_kept.size());
@@ -551,6 +552,33 @@ void SchurComplementSolver::solve(const double* b, double* x) {
     for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a] + m.work_e[e * de + a];
   for (int s = 0; s < m.nk; ++s)
     for (int a = 0; a < m.kd[s]; ++a) x[m.k_start[s] + a] = m.xk[m.s_start[s] + a];
+}
+
+bool SchurComplementSolver::reduced_system(const BlockSparseMatrix& A, const double* b, Eigen::MatrixXd* S,
+                                           Eigen::VectorXd* rhs) {
+  Impl& m = *impl_;
+  if (m.A == nullptr || A.rows() != m.A->rows()) throw std::logic_error("SchurComplementSolver::reduced_system before analyze");
+  if (method_ != SchurMethod::kDense) throw std::logic_error("SchurComplementSolver::reduced_system needs the dense method");
+  m.A = &A;
+  bool good = true;
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    good = m.template invert_c<edim>(0, m.ne);
+    if (!good) return;
+    m.template form_dense<kd, edim>(pool_);
+    const int de = m.ne > 0 ? m.ed[0] : 0;
+    for (int e = 0; e < m.ne; ++e)
+      for (int a = 0; a < de; ++a) m.work_e[e * de + a] = b[m.e_start[e] + a];
+    Eigen::VectorXd bk(m.nS);
+    for (int s = 0; s < m.nk; ++s)
+      for (int a = 0; a < m.kd[s]; ++a) bk[m.s_start[s] + a] = b[m.k_start[s] + a];
+    m.template eliminated_solve<kd, edim>(pool_, m.work_e.data(), nullptr, m.ye.data());
+    m.template kept_gather<kd, edim>(pool_, bk.data(), nullptr, m.ye.data(), m.rk.data());
+  });
+  if (!good) return false;
+  *S = m.dense.selfadjointView<Eigen::Lower>();
+  *rhs = m.rk;
+  return true;
 }
 
 Eigen::MatrixXd SchurComplementSolver::solve(const Eigen::MatrixXd& B) {

@@ -67,6 +67,12 @@ class SchurComplementSolver final : public SparseCholesky {
   double inverse_factor_norm2(const double* v) override;
   const CholeskyStats& stats() const override { return stats_; }
 
+  /// Marginalization (the VIO window's prior): after analyze(A) with method kDense (or kAuto
+  /// resolved to it), forms S = B − E C⁻¹ Eᵀ and rhs = b_k − E C⁻¹ b_e densely over the kept
+  /// blocks in H's order, without factorizing S (it may be singular: unobservable directions).
+  /// False if some C_e is not positive definite; throws std::logic_error for other methods.
+  bool reduced_system(const BlockSparseMatrix& A, const double* b, Eigen::MatrixXd* S, Eigen::VectorXd* rhs);
+
   SchurMethod method() const { return method_; }  ///< the method used (kAuto resolved)
   int reduced_dim() const;
   int num_eliminated() const;
