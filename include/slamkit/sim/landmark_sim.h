@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "slamkit/filters/models.h"  // RangeBearing
+
 namespace slamkit {
 
 struct LandmarkSimOptions {
@@ -29,12 +31,6 @@ struct LandmarkSimOptions {
   double max_range = 30.0;         // m
   double sigma_range = 0.1;        // m
   double sigma_bearing = 1.0 * 3.14159265358979323846 / 180.0;  // rad
-};
-
-struct RangeBearing {
-  int id = -1;        // true landmark index (used by known association)
-  double range = 0;   // m
-  double bearing = 0; // rad, wrapped to (−π, π]
 };
 
 struct LandmarkSimStep {
