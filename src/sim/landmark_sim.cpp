@@ -9,18 +9,13 @@
 
 namespace slamkit {
 
-Eigen::Vector3d bicycle_motion(const Eigen::Vector3d& p, double v, double g, double dt,
-                               double wheelbase) {
-  return Eigen::Vector3d(p.x() + v * dt * std::cos(p.z() + g), p.y() + v * dt * std::sin(p.z() + g),
-                         wrap_angle(p.z() + v * dt * std::sin(g) / wheelbase));
-}
-
 LandmarkSimRun simulate_landmark_run(const std::vector<Eigen::Vector2d>& landmarks,
                                      const std::vector<Eigen::Vector2d>& waypoints,
                                      const LandmarkSimOptions& o, std::uint64_t seed) {
   if (waypoints.empty()) throw InputError("simulator", 0, "waypoints", "no waypoints");
   if (!(o.dt > 0) || !(o.wheelbase > 0) || o.observe_every < 1 || o.laps < 1)
     throw InputError("simulator", 0, "options", "dt, wheelbase, observe_every, laps must be > 0");
+  const BicycleModel vehicle(o.wheelbase, o.sigma_v, o.sigma_steer);  // true motion: noise-free
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   LandmarkSimRun run;
@@ -43,7 +38,7 @@ LandmarkSimRun simulate_landmark_run(const std::vector<Eigen::Vector2d>& landmar
     double max_delta = o.max_steer_rate * o.dt;
     double delta = std::clamp(o.steer_gain * error * o.dt, -max_delta, max_delta);
     steer = std::clamp(steer + delta, -o.max_steer, o.max_steer);
-    pose = bicycle_motion(pose, o.speed, steer, o.dt, o.wheelbase);
+    pose = vehicle.predict(pose, Control{o.speed, steer, o.dt});
     LandmarkSimStep step;
     step.true_pose = pose;
     step.v = o.speed + o.sigma_v * normal(rng);

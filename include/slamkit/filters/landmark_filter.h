@@ -5,10 +5,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "slamkit/filters/data_association.h"
 #include "slamkit/filters/models.h"
 
 namespace slamkit {
@@ -27,6 +29,24 @@ struct UpdateStatistics {
   int rejected = 0;          // outside every gate but too close to start a new landmark
   double nis = 0;            // Σ νᵀ S⁻¹ ν over the associated observations
   int nis_dof = 0;           // 2 · associated
+};
+
+/// What every filter is built from (filter-specific fields are ignored by the others).
+struct LandmarkFilterOptions {
+  std::shared_ptr<const MotionModel> motion;  // required
+  RangeBearingModel sensor{0.1, 1.0 * 3.14159265358979323846 / 180.0};
+  Eigen::Vector3d initial_pose = Eigen::Vector3d::Zero();
+  /// Standard deviations of the initial pose (> 0: the information filters need Ω₀ = P₀⁻¹).
+  Eigen::Vector3d initial_sigma = Eigen::Vector3d(1e-3, 1e-3, 1e-4);
+  /// Per-predict pose noise added to F_u Q F_uᵀ (rank 2 for a 2-D control): makes the motion
+  /// noise invertible, which the information form's augment-then-marginalize step needs.
+  /// Every filter adds it, so they all run the same model. The default adds ~2% (x, y) and
+  /// ~1% (θ) to the Bailey simulator's per-step motion variance.
+  Eigen::Vector3d pose_noise_floor = Eigen::Vector3d(1e-3, 1e-3, 1e-4);
+  AssociationOptions association;
+  int active_landmarks = 6;  // SEIF: bound on the active set
+  int particles = 100;       // FastSLAM
+  std::uint64_t seed = 1;    // particle filters
 };
 
 class LandmarkFilter {

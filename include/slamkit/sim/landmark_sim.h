@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "slamkit/filters/models.h"  // RangeBearing
+#include "slamkit/filters/models.h"  // BicycleModel (the true motion), RangeBearing
 
 namespace slamkit {
 
@@ -43,10 +43,6 @@ struct LandmarkSimStep {
 struct LandmarkSimRun {
   std::vector<LandmarkSimStep> steps;
 };
-
-/// Bicycle-model motion (shared by simulator and filters).
-Eigen::Vector3d bicycle_motion(const Eigen::Vector3d& pose, double v, double steer, double dt,
-                               double wheelbase);
 
 /// Simulates one run from pose (0,0,0). Throws InputError on empty waypoints or bad options.
 LandmarkSimRun simulate_landmark_run(const std::vector<Eigen::Vector2d>& landmarks,
