@@ -14,9 +14,9 @@ struct SmallWorld {
   LandmarkFilterOptions filter;
 };
 
-inline SmallWorld small_world(int n_landmarks, int steps, std::uint64_t world_seed = 4) {
+inline SmallWorld small_world(int n_landmarks, int steps, std::uint64_t world_seed = 4, double radius = 0) {
   SmallWorld w;
-  generate_landmark_world(n_landmarks, world_seed, &w.landmarks, &w.waypoints);
+  generate_landmark_world(n_landmarks, world_seed, &w.landmarks, &w.waypoints, radius);
   w.sim.max_steps = steps;
   w.filter.motion = std::make_shared<BicycleModel>(w.sim.wheelbase, w.sim.sigma_v, w.sim.sigma_steer);
   w.filter.sensor = RangeBearingModel(w.sim.sigma_range, w.sim.sigma_bearing);
