@@ -17,5 +17,7 @@ void add_compare_command(CLI::App& app);   // cmd_compare.cpp: compare FILE --so
 // evaluation and reports (issue: trajectory evaluation)
 void add_eval_command(CLI::App& app);    // cmd_eval.cpp: eval ate|rpe
 void add_report_command(CLI::App& app);  // cmd_report.cpp: report RUN.json... -o report.html
+// landmark-SLAM filters (issue 15)
+void add_filter_command(CLI::App& app);  // cmd_filter.cpp: filter --algorithm ekf|eif|seif|...
 
 }  // namespace slamkit::cli

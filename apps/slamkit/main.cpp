@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   // evaluation and reports
   slamkit::cli::add_eval_command(app);
   slamkit::cli::add_report_command(app);
+  // landmark-SLAM filters
+  slamkit::cli::add_filter_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
