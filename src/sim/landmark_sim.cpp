@@ -48,7 +48,7 @@ LandmarkSimRun simulate_landmark_run(const std::vector<Eigen::Vector2d>& landmar
       for (std::size_t i = 0; i < landmarks.size(); ++i) {
         Eigen::Vector2d dl = landmarks[i] - pose.head<2>();
         double r = dl.norm();
-        if (r > o.max_range) continue;
+        if (r > o.max_range || r < o.min_range) continue;
         RangeBearing z;
         z.id = static_cast<int>(i);
         z.range = r + o.sigma_range * normal(rng);

@@ -29,6 +29,8 @@ struct LandmarkSimOptions {
   double sigma_steer = 3.0 * 3.14159265358979323846 / 180.0;  // rad
   int observe_every = 8;           // control steps between observations (0.2 s)
   double max_range = 30.0;         // m
+  double min_range = 0.5;          // m: closer landmarks are inside the vehicle, not observed
+                                   // (keeps noisy ranges positive and bearings defined)
   double sigma_range = 0.1;        // m
   double sigma_bearing = 1.0 * 3.14159265358979323846 / 180.0;  // rad
 };
