@@ -20,5 +20,7 @@ void add_report_command(CLI::App& app);  // cmd_report.cpp: report RUN.json... -
 // visual-inertial simulation (issue 12)
 void add_simulate_command(CLI::App& app);  // cmd_simulate.cpp: simulate --vi room1 -o run.vis
 void add_vio_command(CLI::App& app);       // cmd_vio.cpp: vio --sim run.vis
+// landmark-SLAM filters (issue 15)
+void add_filter_command(CLI::App& app);  // cmd_filter.cpp: filter --algorithm ekf|eif|seif|...
 
 }  // namespace slamkit::cli

@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   // visual-inertial simulation
   slamkit::cli::add_simulate_command(app);
   slamkit::cli::add_vio_command(app);
+  // landmark-SLAM filters
+  slamkit::cli::add_filter_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

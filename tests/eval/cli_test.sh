@@ -80,7 +80,7 @@ grep -q "<polyline" ate.svg || fail "ate.svg has no polyline"
 # Report: eval runs and an optimizer summary; unknown kinds are errors.
 expect 0 "wrote report.html" -- "$slamkit" report ate.json rpe.json "$source_dir/tests/eval/data/optimize_example.json" -o report.html
 grep -q "<svg" report.html || fail "report.html has no svg"
-echo '{"kind": "filter", "label": "ekf"}' > unknown.json
+echo '{"kind": "particle-cloud", "label": "ekf"}' > unknown.json
 expect 1 "unknown.json: field 'kind': unknown kind" -- "$slamkit" report unknown.json -o r.html
 echo '{"kind": "ate"' > broken.json
 expect 1 "broken.json: not valid JSON" -- "$slamkit" report broken.json -o r.html

@@ -96,7 +96,8 @@ TEST(Report, UnknownKindsAndMalformedRunsAreClearErrors) {
       EXPECT_EQ(e.field(), field) << e.what();
     }
   };
-  expect_error({{"kind", "filter"}}, "kind");
+  expect_error({{"kind", "particle-cloud"}}, "kind");
+  expect_error({{"kind", "filter"}}, "runs");  // a filter run (filter_report.h) without its fields
   expect_error({{"label", "x"}}, "kind");
   expect_error(nlohmann::json::array(), "kind");
   nlohmann::json opt = optimize_doc("lm", 1.0);

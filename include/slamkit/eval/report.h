@@ -1,7 +1,8 @@
 // `slamkit report`: one self-contained HTML page comparing several runs side by side.
 //
 // Inputs are JSON documents: eval runs ("kind": "ate" | "rpe", run_json.h), back-end
-// comparisons ("kind": "compare", below) and optimizer summaries ("kind": "optimize"):
+// comparisons ("kind": "compare", below), filter runs ("kind": "filter", filter_report.h) and
+// optimizer summaries ("kind": "optimize"):
 //   {"kind": "optimize", "label": "...", "solver": "lm", "init": "chordal", "initial_chi2": …,
 //    "final_chi2": …, "iterations": …, "time_total_s": …, "termination": "...",
 //    "trace": [{"iteration": 0, "cost": …, "time_s": …, …}, …]}

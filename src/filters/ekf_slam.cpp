@@ -1,0 +1,145 @@
+#include "slamkit/filters/ekf_slam.h"
+
+#include <Eigen/Cholesky>
+
+#include "filter_common.h"
+
+namespace slamkit {
+
+using filters_detail::linearize_motion;
+
+EkfSlam::EkfSlam(LandmarkFilterOptions options) : o_(std::move(options)) {
+  filters_detail::check_filter_options(o_, "ekf");
+  mu_ = o_.initial_pose;
+  P_ = o_.initial_sigma.cwiseAbs2().asDiagonal();
+}
+
+int EkfSlam::slot(int id) const {
+  const auto it = index_.find(id);
+  return it == index_.end() ? -1 : 3 + 2 * it->second;
+}
+
+Eigen::Vector3d EkfSlam::pose() const {
+  Eigen::Vector3d p = mu_.head<3>();
+  p.z() = wrap_angle(p.z());
+  return p;
+}
+
+void EkfSlam::predict(const Control& u) {
+  filters_detail::check_control(u, "ekf");
+  const auto m = linearize_motion(o_, mu_.head<3>(), u);
+  mu_.head<3>() = m.next;
+  mu_(2) = wrap_angle(mu_(2));
+  const Eigen::Index n = mu_.size() - 3;
+  P_.topLeftCorner<3, 3>() = m.F * P_.topLeftCorner<3, 3>() * m.F.transpose() + m.Q;
+  if (n > 0) {
+    P_.topRightCorner(3, n) = m.F * P_.topRightCorner(3, n);
+    P_.bottomLeftCorner(n, 3) = P_.topRightCorner(3, n).transpose();
+  }
+}
+
+void EkfSlam::update(const std::vector<RangeBearing>& z) {
+  filters_detail::check_observations(z, "ekf");
+  stats_ = UpdateStatistics{};
+  stats_.observations = int(z.size());
+  if (z.empty()) return;
+  std::vector<Eigen::Vector2d> means;
+  for (int id : ids_) means.push_back(mu_.segment<2>(slot(id)));
+  const std::vector<int> assoc = associate_landmarks(
+      z, pose(), ids_, means, [this](const std::vector<int>& ids) { return joint_covariance(ids); }, o_.sensor,
+      o_.association);
+
+  // Batch update with every associated observation, linearized at the predicted mean.
+  std::vector<int> rows_obs, rows_slot;
+  for (std::size_t i = 0; i < z.size(); ++i)
+    if (assoc[i] >= 0) rows_obs.push_back(int(i)), rows_slot.push_back(slot(assoc[i]));
+  const int k = int(rows_obs.size());
+  if (k > 0) {
+    const Eigen::Index N = mu_.size();
+    Eigen::VectorXd nu(2 * k);
+    std::vector<Eigen::Matrix<double, 2, 3>> Hx(k);
+    std::vector<Eigen::Matrix2d> Hm(k);
+    for (int a = 0; a < k; ++a) {
+      const Eigen::Vector2d lm = mu_.segment<2>(rows_slot[a]);
+      o_.sensor.jacobians(mu_.head<3>(), lm, &Hx[a], &Hm[a]);
+      nu.segment<2>(2 * a) = RangeBearingModel::innovation(z[rows_obs[a]], o_.sensor.predict(mu_.head<3>(), lm));
+    }
+    // A · Hᵀ for a dense A (rows × N), using the two non-zero column blocks of each H row pair.
+    auto times_Ht = [&](const Eigen::MatrixXd& A) {
+      Eigen::MatrixXd out(A.rows(), 2 * k);
+      for (int a = 0; a < k; ++a)
+        out.middleCols<2>(2 * a) =
+            A.leftCols<3>() * Hx[a].transpose() + A.middleCols<2>(rows_slot[a]) * Hm[a].transpose();
+      return out;
+    };
+    const Eigen::MatrixXd PHt = times_Ht(P_);  // N × 2k
+    Eigen::MatrixXd S(2 * k, 2 * k);
+    for (int a = 0; a < k; ++a)
+      S.middleRows<2>(2 * a) = Hx[a] * PHt.topRows<3>() + Hm[a] * PHt.middleRows<2>(rows_slot[a]);
+    for (int a = 0; a < k; ++a) S.block<2, 2>(2 * a, 2 * a) += o_.sensor.noise();
+    S = 0.5 * (S + S.transpose()).eval();
+    const Eigen::LDLT<Eigen::MatrixXd> S_ldlt(S);
+    const Eigen::MatrixXd K = S_ldlt.solve(PHt.transpose()).transpose();  // N × 2k
+    stats_.associated = k;
+    stats_.nis = nu.dot(S_ldlt.solve(nu));
+    stats_.nis_dof = 2 * k;
+    mu_ += K * nu;
+    mu_(2) = wrap_angle(mu_(2));
+    // Joseph form: A = (I − K H) P, then P = A (I − K H)ᵀ + K R Kᵀ.
+    const Eigen::MatrixXd A = P_ - K * PHt.transpose();
+    Eigen::MatrixXd P = A - times_Ht(A) * K.transpose();
+    for (int a = 0; a < k; ++a) P.noalias() += K.middleCols<2>(2 * a) * o_.sensor.noise() * K.middleCols<2>(2 * a).transpose();
+    P_ = 0.5 * (P + P.transpose());
+    (void)N;
+  }
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    if (assoc[i] == kNewLandmark) {
+      add_landmark(o_.association.method == AssociationMethod::kKnown ? z[i].id : next_id_++, z[i]);
+      ++stats_.new_landmarks;
+    } else if (assoc[i] == kRejectedObservation) {
+      ++stats_.rejected;
+    }
+  }
+}
+
+void EkfSlam::add_landmark(int id, const RangeBearing& z) {
+  Eigen::Matrix<double, 2, 3> Gx;
+  Eigen::Matrix2d Gz;
+  const Eigen::Vector2d m = o_.sensor.inverse(mu_.head<3>(), z, &Gx, &Gz);
+  const Eigen::Index N = mu_.size();
+  mu_.conservativeResize(N + 2);
+  mu_.tail<2>() = m;
+  P_.conservativeResize(N + 2, N + 2);
+  const Eigen::MatrixXd cross = Gx * P_.topLeftCorner(3, N);  // 2 × N
+  P_.bottomLeftCorner(2, N) = cross;
+  P_.topRightCorner(N, 2) = cross.transpose();
+  P_.bottomRightCorner<2, 2>() =
+      Gx * P_.topLeftCorner<3, 3>() * Gx.transpose() + Gz * o_.sensor.noise() * Gz.transpose();
+  index_[id] = int(ids_.size());
+  ids_.push_back(id);
+}
+
+std::vector<LandmarkEstimate> EkfSlam::landmarks() const {
+  std::vector<LandmarkEstimate> out;
+  for (int id : ids_) {
+    const int s = slot(id);
+    out.push_back({id, mu_.segment<2>(s), P_.block<2, 2>(s, s)});
+  }
+  return out;
+}
+
+Eigen::MatrixXd EkfSlam::joint_covariance(const std::vector<int>& ids) const {
+  std::vector<int> rows = {0, 1, 2};
+  for (int id : ids) {
+    const int s = slot(id);
+    if (s < 0) throw InputError("ekf", 0, "landmark", "no landmark with id " + std::to_string(id));
+    rows.push_back(s);
+    rows.push_back(s + 1);
+  }
+  Eigen::MatrixXd C(rows.size(), rows.size());
+  for (std::size_t a = 0; a < rows.size(); ++a)
+    for (std::size_t b = 0; b < rows.size(); ++b) C(a, b) = P_(rows[a], rows[b]);
+  return C;
+}
+
+}  // namespace slamkit
