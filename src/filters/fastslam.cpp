@@ -164,6 +164,16 @@ void FastSlam::predict(const Control& u) {
   }
 }
 
+void FastSlam::set_common_map(const PersistentLandmarkMap& map) {
+  map.for_each([&](int id, const LandmarkGaussian& g) {
+    if (id < 0 || !g.mean.allFinite() || !g.covariance.allFinite())
+      throw InputError("fastslam", 0, "map", "landmark ids must be >= 0 with finite mean and covariance");
+    if (options_.association == FastSlamAssociation::kNearestNeighbour) register_landmark(id, g.mean);
+    next_id_ = std::max(next_id_, id + 1);
+  });
+  for (FastSlamParticle& p : particles_) p.map = map;
+}
+
 void FastSlam::register_landmark(int id, const Eigen::Vector2d& m) {
   if (!registered_.emplace(id, true).second) return;
   const long ix = static_cast<long>(std::floor(m.x() / options_.grid_cell));

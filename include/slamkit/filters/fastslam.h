@@ -93,6 +93,9 @@ class FastSlam final : public LandmarkFilter {
   Eigen::MatrixXd joint_covariance(const std::vector<int>& landmark_ids) const override;
   const UpdateStatistics& last_update() const override { return stats_; }
 
+  /// Gives every particle the same map (one shared tree, O(M)): a known prior map, or a
+  /// pre-built map of n landmarks for the scaling benchmark. Landmark ids must be >= 0.
+  void set_common_map(const PersistentLandmarkMap& map);
   const std::vector<FastSlamParticle>& particles() const { return particles_; }
   /// Normalized weights (sum 1).
   std::vector<double> weights() const;
