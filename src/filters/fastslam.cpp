@@ -184,16 +184,26 @@ void FastSlam::register_landmark(int id, const Eigen::Vector2d& m) {
 std::vector<int> FastSlam::associate_particle(const FastSlamParticle& p, const std::vector<RangeBearing>& z,
                                               const Eigen::Matrix3d& pose_cov) const {
   std::vector<int> out(z.size(), kFastSlamNew);
-  if (options_.association == FastSlamAssociation::kKnown) {
-    for (std::size_t i = 0; i < z.size(); ++i)
-      if (p.map.find(z[i].id)) out[i] = z[i].id;
-    return out;
-  }
   const Eigen::Matrix2d R = sensor_.noise();
-  const double c = options_.grid_cell, r = options_.candidate_radius;
-  std::vector<std::vector<std::pair<int, double>>> candidates(z.size());
   Eigen::Matrix<double, 2, 3> H_x;
   Eigen::Matrix2d H_m;
+  auto distance2 = [&](const RangeBearing& zi, const LandmarkGaussian& lm) {
+    sensor_.jacobians(p.pose, lm.mean, &H_x, &H_m);
+    const Eigen::Matrix2d S = H_m * lm.covariance * H_m.transpose() + R + H_x * pose_cov * H_x.transpose();
+    const Eigen::Vector2d nu = RangeBearingModel::innovation(zi, sensor_.predict(p.pose, lm.mean));
+    return nu.dot(S.inverse() * nu);
+  };
+  if (options_.association == FastSlamAssociation::kKnown) {
+    for (std::size_t i = 0; i < z.size(); ++i) {
+      const LandmarkGaussian* lm = p.map.find(z[i].id);
+      if (!lm || (lm->mean - p.pose.head<2>()).squaredNorm() < 1e-12) continue;
+      out[i] = options_.known_gate_distance2 > 0 && distance2(z[i], *lm) > options_.known_gate_distance2
+                   ? kFastSlamRejected : z[i].id;
+    }
+    return out;
+  }
+  const double c = options_.grid_cell, r = options_.candidate_radius;
+  std::vector<std::vector<std::pair<int, double>>> candidates(z.size());
   for (std::size_t i = 0; i < z.size(); ++i) {
     const Eigen::Vector2d at = sensor_.inverse(p.pose, z[i]);
     for (long ix = static_cast<long>(std::floor((at.x() - r) / c)); ix <= static_cast<long>(std::floor((at.x() + r) / c)); ++ix)
@@ -203,10 +213,7 @@ std::vector<int> FastSlam::associate_particle(const FastSlamParticle& p, const s
         for (int id : cell->second) {
           const LandmarkGaussian* lm = p.map.find(id);
           if (!lm || (lm->mean - p.pose.head<2>()).squaredNorm() < 1e-12) continue;
-          sensor_.jacobians(p.pose, lm->mean, &H_x, &H_m);
-          const Eigen::Matrix2d S = H_m * lm->covariance * H_m.transpose() + R + H_x * pose_cov * H_x.transpose();
-          const Eigen::Vector2d nu = RangeBearingModel::innovation(z[i], sensor_.predict(p.pose, lm->mean));
-          candidates[i].push_back({id, nu.dot(S.inverse() * nu)});
+          candidates[i].push_back({id, distance2(z[i], *lm)});
         }
       }
   }

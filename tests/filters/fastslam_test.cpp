@@ -199,6 +199,30 @@ TEST(FastSlam, NearestNeighbourFunction) {
   EXPECT_EQ(a[3], kFastSlamRejected);
 }
 
+TEST(FastSlam, CommonMapAndKnownOutlierGate) {
+  auto motion = std::make_shared<UnicycleModel>(0.01, 0.01);
+  FastSlamOptions o;
+  o.particles = 20;
+  o.known_gate_distance2 = 16;
+  FastSlam f(motion, RangeBearingModel(0.1, 0.02), o);
+  PersistentLandmarkMap prior;
+  LandmarkGaussian g;
+  g.mean = Eigen::Vector2d(5, 0);
+  g.covariance = Eigen::Matrix2d::Identity() * 1e-4;
+  prior.set(3, g);
+  f.set_common_map(prior);
+  for (const FastSlamParticle& p : f.particles()) EXPECT_EQ(p.map.root(), prior.root());  // one shared tree
+  f.update({{3, 5.0, 0.0}});
+  EXPECT_EQ(f.last_update().associated, 1);
+  f.update({{3, 9.0, 0.0}});  // 4 m off: d² ≈ 1600 > 16
+  EXPECT_EQ(f.last_update().rejected, 1);
+  EXPECT_EQ(f.last_update().associated, 0);
+  EXPECT_NEAR(f.landmarks()[0].mean.x(), 5.0, 0.05);
+  PersistentLandmarkMap bad;
+  bad.set(-4, g);
+  EXPECT_THROW(f.set_common_map(bad), InputError);
+}
+
 TEST(FastSlam, BadInput) {
   auto motion = std::make_shared<UnicycleModel>(0.1, 0.1);
   const RangeBearingModel sensor(0.1, 0.02);

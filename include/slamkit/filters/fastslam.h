@@ -56,6 +56,7 @@ struct FastSlamOptions {
   FastSlamAssociation association = FastSlamAssociation::kKnown;
   double gate_distance2 = 4.0;      // nn: match when d² = νᵀ S⁻¹ ν ≤ this (Bailey's GATE_REJECT)
   double new_landmark_distance2 = 25.0;  // nn: new landmark when d² > this to every candidate
+  double known_gate_distance2 = 0;  // known: > 0 rejects d² above it (outliers); 0 keeps all
   double grid_cell = 5.0;           // m, cell of the shared candidate grid (nn)
   double candidate_radius = 10.0;   // m, candidates within this of the observed position (nn)
   LandmarkSummary summary = LandmarkSummary::kBest;
