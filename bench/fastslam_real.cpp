@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
   bool skip_victoria = false;
   double known_gate = 0;  // > 0: outlier gate d2 on the known-id sightings (off: with 16 or 25 every robot got worse)
   double sensor_scale = 1.0;  // multiplies the estimated measurement σ
-  int version = 2;  // outlier gate on the known-id sightings (d² > 16: 4σ)
+  int version = 2;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--unicycle-noise") && std::sscanf(argv[i + 1], "%lf,%lf,%lf,%lf", &sv, &sw, &sv_per_v, &sw_per_w) != 4)
       return std::fprintf(stderr, "--unicycle-noise needs sv,sw,sv_per_v,sw_per_w\n"), 2;
