@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "slamkit/eval/plot.h"
 #include "slamkit/filters/fastslam.h"
 #include "slamkit/sim/landmark_sim.h"
 
@@ -105,6 +106,29 @@ int main(int argc, char** argv) {
                         {"command", "build/bench/fastslam_bench --steps " + std::to_string(steps)},
                         {"results", rows}};
   std::ofstream(out) << doc.dump(2) << "\n";
+  // Time per step against log10 n, with what O(n) from the n = 100 point would be.
+  Plot plot("FastSLAM time per step (M = 100, known ids)", "log10 landmarks n", "ms per control step");
+  plot.set_log_y(true);
+  const Rgb colors[2] = {{31, 119, 180}, {214, 39, 40}};
+  for (int v = 0; v < 2; ++v) {
+    Plot::Series s;
+    s.label = v == 0 ? "FastSLAM 1.0" : "FastSLAM 2.0";
+    s.color = colors[v];
+    s.points = true;
+    for (const auto& r : rows)
+      if (r["algorithm"] == (v == 0 ? "fastslam1" : "fastslam2"))
+        s.x.push_back(std::log10(r["landmarks"].get<double>())), s.y.push_back(r["time_per_step_ms"].get<double>());
+    Plot::Series linear;
+    linear.label = v == 0 ? "O(n) from n = 100" : "";
+    linear.color = Rgb{127, 127, 127};
+    linear.dash = "5 4";
+    for (std::size_t k = 0; k < s.x.size(); ++k) linear.x.push_back(s.x[k]), linear.y.push_back(s.y[0] * std::pow(10, s.x[k] - s.x[0]));
+    plot.add_series(s);
+    plot.add_series(linear);
+  }
+  const std::string svg = out.substr(0, out.rfind('.')) + ".svg";
+  std::ofstream(svg) << plot.render(720, 480).str();
+  std::printf("wrote %s\n", svg.c_str());
   std::printf("wrote %s\n", out.c_str());
   return 0;
 }
