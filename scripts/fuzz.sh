@@ -4,7 +4,7 @@
 # that what reads also writes and reads back to the same values (tests/fuzz/*.h, *.cpp).
 #
 #   scripts/fuzz.sh [TARGET] [SECONDS]
-#     TARGET   g2o | toro | gtsam | bal | traj_tum | traj_euroc | traj_kitti | traj_slamkit | mrclam | sim_spec |
+#     TARGET   g2o | toro | gtsam | bal | traj_tum | traj_euroc | traj_kitti | traj_slamkit | mrclam | landmark_dataset | sim_spec |
 #              config | vi_sim | all   (default: all, one after the other)
 #     SECONDS  time per target            (default: 60)
 #
@@ -20,7 +20,7 @@ seconds=${2:-60}
 build=${SLAMKIT_FUZZ_BUILD:-$root/build-fuzz}
 jobs=${JOBS:-2}
 
-all_targets=(g2o toro gtsam bal traj_tum traj_euroc traj_kitti traj_slamkit mrclam sim_spec config vi_sim)
+all_targets=(g2o toro gtsam bal traj_tum traj_euroc traj_kitti traj_slamkit mrclam landmark_dataset sim_spec config vi_sim)
 if [[ "$target" == all ]]; then
   targets=("${all_targets[@]}")
 elif [[ " ${all_targets[*]} " == *" $target "* ]]; then
@@ -35,7 +35,7 @@ dictionary() {
     sim_spec) echo sim.dict ;;
     config) echo json.dict ;;
     vi_sim) echo vi_sim.dict ;;
-    bal | mrclam) echo '' ;;
+    bal | mrclam | landmark_dataset) echo '' ;;
     *) echo pose_graph.dict ;;
   esac
 }
