@@ -68,6 +68,35 @@ TEST(DefaultInitialization, SecondGuessOnlyWhenChi2PerDofAfterInitExceedsOne) {
   }
 }
 
+// Large enough that evaluation, assembly and retraction run in parallel (small graphs stay on
+// the calling thread): the result must not depend on the thread count.
+TEST(DatasetThreads, ResultIsBitIdenticalForAnyThreadCount) {
+  for (const char* f : {"posegraph/2d/input_M3500_g2o.g2o", "posegraph/3d/sphere2500.g2o"}) {
+    SLAMKIT_REQUIRE_DATA(file, f);
+    const PoseGraph original = read_pose_graph(file.string());
+    std::vector<PoseGraph> results;
+    std::vector<double> chi2;
+    for (int threads : {1, 3}) {
+      PoseGraph g = original;
+      PoseGraphOptimizerOptions o;
+      o.optimizer.num_threads = threads;
+      chi2.push_back(optimize_pose_graph(g, o).final_chi2);
+      results.push_back(std::move(g));
+    }
+    EXPECT_EQ(chi2[0], chi2[1]) << f;
+    for (std::size_t i = 0; i < original.vertices().size(); ++i) {
+      const GraphVertex &a = results[0].vertices()[i], &b = results[1].vertices()[i];
+      if (a.kind == VertexKind::kPose2) {
+        ASSERT_EQ(a.pose2.theta(), b.pose2.theta()) << f << " vertex " << a.id;
+        ASSERT_EQ(a.pose2.translation(), b.pose2.translation()) << f << " vertex " << a.id;
+      } else {
+        ASSERT_EQ(a.pose3.rotation().quaternion().coeffs(), b.pose3.rotation().quaternion().coeffs()) << f;
+        ASSERT_EQ(a.pose3.translation(), b.pose3.translation()) << f << " vertex " << a.id;
+      }
+    }
+  }
+}
+
 class AlgorithmsAgreeOnDatasets : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(AlgorithmsAgreeOnDatasets, SameOptimumToOnePartPerMillion) {
