@@ -56,6 +56,7 @@ struct ThreadPool::Impl {
   std::mutex mutex;
   std::condition_variable wake;
   Clock::duration spin;
+  std::once_flag started;
 
   void worker_loop() {
     unsigned long seen = 0;
@@ -91,8 +92,8 @@ const char* ThreadPool::backend() { return "std::thread pool"; }
 ThreadPool::ThreadPool(int threads, double spin_seconds)
     : threads_(threads > 0 ? threads : hardware_threads()), impl_(std::make_unique<Impl>()) {
   impl_->spin = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(std::max(0.0, spin_seconds)));
-  impl_->workers.reserve(static_cast<std::size_t>(threads_ - 1));
-  for (int t = 1; t < threads_; ++t) impl_->workers.emplace_back([this] { impl_->worker_loop(); });
+  // The workers start with the first job that is split (parallel_for): a pool whose jobs are
+  // all below their grain never has a thread polling next to the caller for CPU time.
 }
 
 ThreadPool::~ThreadPool() {
@@ -114,12 +115,16 @@ void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_
     fn(0, n);
     return;
   }
+  Impl& p = *impl_;
+  std::call_once(p.started, [&] {
+    p.workers.reserve(static_cast<std::size_t>(threads_ - 1));
+    for (int t = 1; t < threads_; ++t) p.workers.emplace_back([this] { impl_->worker_loop(); });
+  });
   Job job;
   job.fn = &fn;
   job.n = n;
   job.chunk = chunk;
   job.num_chunks = (n + chunk - 1) / chunk;
-  Impl& p = *impl_;
   p.current.store(&job);
   p.generation.fetch_add(1);
   if (p.sleepers.load() > 0) {

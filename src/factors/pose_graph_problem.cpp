@@ -6,7 +6,9 @@
 
 namespace slamkit {
 
-PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& options) {
+PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& options,
+                                          const std::vector<std::int64_t>* gauge,
+                                          const std::vector<std::string>* gauge_notes) {
   PoseGraphProblem p;
   for (const GraphVertex& v : g.vertices()) {
     if (!v.has_estimate)
@@ -53,7 +55,12 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphPro
       }
     }
   }
-  p.gauge = gauge_vertices(g, &p.notes);
+  if (gauge) {
+    p.gauge = *gauge;
+    if (gauge_notes) p.notes.insert(p.notes.end(), gauge_notes->begin(), gauge_notes->end());
+  } else {
+    p.gauge = gauge_vertices(g, &p.notes);
+  }
   for (std::int64_t id : p.gauge) p.values.set_fixed(vertex_key(id));
   return p;
 }

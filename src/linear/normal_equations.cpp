@@ -48,6 +48,19 @@ void add_at_b(const double* a, const double* b, double* dest, int rows, int di, 
   D.noalias() += A.transpose() * B;
 }
 
+// Parallel grains: below these sizes a phase costs less than waking the pool's worker and
+// joining it (tens of µs when it polls, milliseconds when it is descheduled on a loaded VM), so
+// it runs on the calling thread. In residual rows (≈ 40–150 ns each to linearize), in tangent
+// dimensions of block columns (assembly), in variables (retraction, ≈ 50 ns each).
+constexpr std::size_t kParallelResidualRows = 6144;
+constexpr std::size_t kParallelColumnDims = 3072;
+constexpr std::size_t kParallelVariables = 4096;
+
+std::size_t grain_for(std::size_t total_units, std::size_t items, std::size_t min_units) {
+  const std::size_t per_item = items == 0 ? 1 : std::max<std::size_t>(1, total_units / items);
+  return std::max<std::size_t>(1, min_units / per_item);
+}
+
 }  // namespace
 
 NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values, OrderingMethod ordering,
@@ -208,7 +221,9 @@ void NormalEquations::assemble_column(int j) {
 }
 
 double NormalEquations::evaluate(const Values& x, const ThreadPool& pool) {
-  pool.parallel_for(slots_.size(), [&](std::size_t b, std::size_t e) { linearize_factors(x, b, e); });
+  pool.parallel_for(
+      slots_.size(), [&](std::size_t b, std::size_t e) { linearize_factors(x, b, e); },
+      grain_for(residuals_.size(), slots_.size(), kParallelResidualRows));
   double total = 0.0;
   for (double c : factor_cost_) total += c;
   evaluated_ = std::isfinite(total);
@@ -222,7 +237,7 @@ void NormalEquations::assemble(const ThreadPool& pool) {
       [&](std::size_t b, std::size_t e) {
         for (std::size_t j = b; j < e; ++j) assemble_column(static_cast<int>(j));
       },
-      64);
+      grain_for(static_cast<std::size_t>(H_.rows()), static_cast<std::size_t>(H_.num_blocks()), kParallelColumnDims));
 }
 
 double NormalEquations::linearize(const Values& x, const ThreadPool& pool) {
@@ -256,7 +271,7 @@ void NormalEquations::retract(const Values& x, const double* delta, Values& out,
           x.manifold(i).plus(x.params(i), delta + H_.block_start(static_cast<int>(k)), out.params(i));
         }
       },
-      1024);
+      kParallelVariables);
 }
 
 }  // namespace slamkit

@@ -151,7 +151,8 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
       // leaves H and g at x for a rejected step, and is assembled if the step is accepted.
       t0 = now_s();
       const double new_cost = ne.evaluate(candidate, pool);
-      s.time_evaluate_s += now_s() - t0;
+      it.evaluate_time_s = now_s() - t0;
+      s.time_evaluate_s += it.evaluate_time_s;
       const double actual = cost - new_cost;
       double rho = predicted > 0.0 ? actual / predicted : (actual > 0.0 ? 1.0 : -1.0);
       if (!std::isfinite(new_cost)) rho = -std::numeric_limits<double>::infinity();
@@ -205,7 +206,8 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
         } else {
           t0 = now_s();
           ne.assemble(pool);  // x is the candidate evaluated above
-          s.time_linearize_s += now_s() - t0;
+          it.assemble_time_s = now_s() - t0;
+          s.time_linearize_s += it.assemble_time_s;
           strategy->new_linearization();
           it.gradient_norm = ne.gradient().lpNorm<Eigen::Infinity>();
           if (it.gradient_norm <= options_.gradient_tolerance) {

@@ -12,6 +12,10 @@
 namespace slamkit {
 namespace {
 
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 bool is_pose(const GraphVertex& v) { return v.kind == VertexKind::kPose2 || v.kind == VertexKind::kPose3; }
 bool is_pose_edge(const GraphEdge& e) { return e.kind == EdgeKind::kPose2Pose2 || e.kind == EdgeKind::kPose3Pose3; }
 
@@ -97,10 +101,15 @@ void compose_along_tree(PoseGraph& g, const PoseIndex& ix, const std::vector<int
 }
 
 // Landmarks (and anything unreached) from the first observing pose.
+// (A pose-only graph whose poses all have estimates has nothing to complete: no pass.)
 void initialize_points(PoseGraph& g) {
-  for (std::size_t i = 0; i < g.vertices().size(); ++i)
-    if (!is_pose(g.vertices()[i])) g.vertex_at(i).has_estimate = false;
-  complete_estimates_by_odometry(g);
+  bool missing = false;
+  for (std::size_t i = 0; i < g.vertices().size(); ++i) {
+    GraphVertex& v = g.vertex_at(i);
+    if (!is_pose(v)) v.has_estimate = false;
+    missing = missing || !v.has_estimate;
+  }
+  if (missing) complete_estimates_by_odometry(g);
 }
 
 // The normal equations of a linear least-squares problem over the non-gauge poses, with
@@ -112,7 +121,10 @@ class PoseSystem {
   using Block = Eigen::Matrix<double, B, B>;
   using Rhs = Eigen::Matrix<double, B, Eigen::Dynamic, (B == 1 ? Eigen::RowMajor : Eigen::ColMajor), B, 3>;
 
-  PoseSystem(const PoseIndex& ix, const std::vector<std::pair<int, int>>& edges, int rhs, const InitOptions& o) {
+  PoseSystem(const PoseIndex& ix, const std::vector<std::pair<int, int>>& edges, int rhs, const InitOptions& o,
+             InitSummary& summary)
+      : summary_(summary) {
+    const auto t0 = std::chrono::steady_clock::now();
     // Unknowns: the non-gauge poses, numbered in elimination order (so that the Cholesky
     // factorizes the system as stored): the shared vertex order if given, else a new one.
     std::vector<int> free_index(ix.vertex.size(), -1);
@@ -144,6 +156,8 @@ class PoseSystem {
     B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
     chol_ = make_sparse_cholesky(o.linear_solver, o.ordering, o.threads);
     chol_->analyze(A_);
+    ++summary_.analyses;
+    summary_.time_analyze_s += seconds_since(t0);
   }
   int unknown(int pose) const { return unknown_[pose]; }
   /// Clears the values for a new system with the same pattern and `rhs` right-hand sides.
@@ -178,9 +192,12 @@ class PoseSystem {
   }
   Eigen::MatrixXd solve() {
     if (A_.rows() == 0) return B_;
+    const auto t0 = std::chrono::steady_clock::now();
     if (!chol_->factorize(A_))
       throw NumericalError("initialization: the linear system is singular (is every pose connected to a gauge vertex?)");
-    return chol_->solve(B_);
+    Eigen::MatrixXd x = chol_->solve(B_);
+    summary_.time_solve_s += seconds_since(t0);
+    return x;
   }
 
  private:
@@ -192,6 +209,7 @@ class PoseSystem {
   BlockSparseMatrix A_;
   Eigen::MatrixXd B_;
   std::unique_ptr<SparseCholesky> chol_;
+  InitSummary& summary_;
 };
 
 std::vector<std::pair<int, int>> pose_pairs(const PoseIndex& ix) {
@@ -202,7 +220,8 @@ std::vector<std::pair<int, int>> pose_pairs(const PoseIndex& ix) {
 }
 
 // ---- 2D: LAGO-style orientations, then positions.
-void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
+void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSummary& summary) {
+  auto t = std::chrono::steady_clock::now();
   std::vector<int> parent, order;
   spanning_tree(g, ix, &parent, &order);
   const std::size_t n = ix.vertex.size();
@@ -218,9 +237,11 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
     const int p = forward ? ix.ends[e].first : ix.ends[e].second;
     tree_theta[k] = tree_theta[p] + (forward ? edge.pose2.theta() : -edge.pose2.theta());
   }
+  summary.time_tree_s += seconds_since(t);
   const auto pairs = pose_pairs(ix);
   using Scalar1 = Eigen::Matrix<double, 1, 1>;
-  PoseSystem<1> theta_sys(ix, pairs, 1, o);
+  PoseSystem<1> theta_sys(ix, pairs, 1, o, summary);
+  t = std::chrono::steady_clock::now();
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;
@@ -233,11 +254,13 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
     theta_sys.add(a, Scalar1(-1.0), b, Scalar1(1.0), Scalar1(delta + 2.0 * kPi * wraps), Scalar1(w),
                   Scalar1(tree_theta[a]), Scalar1(tree_theta[b]));
   }
+  summary.time_assemble_s += seconds_since(t);
   const Eigen::MatrixXd theta = theta_sys.solve();
   std::vector<double> th(n);
   for (std::size_t k = 0; k < n; ++k) th[k] = ix.gauge[k] ? tree_theta[k] : theta(theta_sys.unknown(k), 0);
 
-  PoseSystem<2> pos_sys(ix, pairs, 1, o);
+  PoseSystem<2> pos_sys(ix, pairs, 1, o, summary);
+  t = std::chrono::steady_clock::now();
   const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
@@ -250,6 +273,7 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
     pos_sys.add(a, -I2, b, I2, Ra * edge.pose2.translation(), W, g.vertices()[ix.vertex[a]].pose2.translation(),
                 g.vertices()[ix.vertex[b]].pose2.translation());
   }
+  summary.time_assemble_s += seconds_since(t);
   const Eigen::MatrixXd pos = pos_sys.solve();
   for (std::size_t k = 0; k < n; ++k) {
     if (ix.gauge[k]) continue;
@@ -267,12 +291,13 @@ Eigen::Matrix3d project_to_so3(const Eigen::Matrix3d& M) {
 }
 
 // ---- 3D: chordal relaxation of rotations, then positions.
-void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
+void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSummary& summary) {
   const std::size_t n = ix.vertex.size();
   const auto pairs = pose_pairs(ix);
   // Unknowns per pose: x = (row k of R)ᵀ for k = 0, 1, 2 as three right-hand sides.
   // Edge R_b = R_a Z ⇒ row: x_b − Zᵀ x_a = 0.
-  PoseSystem<3> sys(ix, pairs, 3, o);
+  PoseSystem<3> sys(ix, pairs, 3, o, summary);
+  auto t = std::chrono::steady_clock::now();
   const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
@@ -285,12 +310,14 @@ void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
             g.vertices()[ix.vertex[a]].pose3.rotation().matrix().transpose(),
             g.vertices()[ix.vertex[b]].pose3.rotation().matrix().transpose());
   }
+  summary.time_assemble_s += seconds_since(t);
   const Eigen::MatrixXd X = sys.solve();
   std::vector<Eigen::Matrix3d> R(n);
   for (std::size_t k = 0; k < n; ++k) {
     R[k] = ix.gauge[k] ? g.vertices()[ix.vertex[k]].pose3.rotation().matrix()
                        : project_to_so3(X.middleRows<3>(3 * sys.unknown(static_cast<int>(k))).transpose());
   }
+  t = std::chrono::steady_clock::now();
   sys.reset(1);  // positions: same pattern, same symbolic factorization
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
@@ -301,6 +328,7 @@ void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o) {
     sys.add(a, -I3, b, I3, R[a] * edge.pose3.translation(), W, g.vertices()[ix.vertex[a]].pose3.translation(),
             g.vertices()[ix.vertex[b]].pose3.translation());
   }
+  summary.time_assemble_s += seconds_since(t);
   const Eigen::MatrixXd pos = sys.solve();
   for (std::size_t k = 0; k < n; ++k) {
     if (ix.gauge[k]) continue;
@@ -366,11 +394,13 @@ InitSummary initialize_pose_graph(PoseGraph& g, InitMethod method, const std::ve
       spanning_tree(g, ix, &parent, &order);
       compose_along_tree(g, ix, parent, order);
     } else if (method == InitMethod::kLinear) {
-      linear_2d(g, ix, options);
+      linear_2d(g, ix, options, s);
     } else {
-      chordal_3d(g, ix, options);
+      chordal_3d(g, ix, options, s);
     }
+    const auto t_points = std::chrono::steady_clock::now();
     initialize_points(g);
+    s.time_points_s = seconds_since(t_points);
   }
   s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;

@@ -159,6 +159,8 @@ std::string Summary::to_json() const {
                           {"linear_solves", it.linear_solves},
                           {"accepted", it.accepted},
                           {"linear_solver_time_s", it.linear_solver_time_s},
+                          {"evaluate_time_s", it.evaluate_time_s},
+                          {"assemble_time_s", it.assemble_time_s},
                           {"time_s", it.cumulative_time_s}});
   }
   j["trace"] = std::move(trace_json);

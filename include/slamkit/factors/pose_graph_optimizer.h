@@ -2,8 +2,9 @@
 //   gauge → fill-reducing order (computed once, shared by every linear system) →
 //   initialization (init) → FactorGraph → Optimizer → estimates written back.
 // Defaults are the fastest combination measured on the standard datasets (bench/results):
-// initialization `auto` (LAGO-style linear in 2D, chordal in 3D) and Gauss-Newton with the
-// best-iterate safeguard.
+// initialization `auto` (LAGO-style linear in 2D, chordal in 3D; if the objective after it is
+// above its degrees of freedom, a second run from the spanning-tree guess, lower minimum kept)
+// and Gauss-Newton with the best-iterate safeguard.
 #pragma once
 
 #include <string>
@@ -18,8 +19,27 @@ namespace slamkit {
 struct PoseGraphOptimizerOptions {
   PoseGraphOptimizerOptions() { optimizer.algorithm = Algorithm::kGaussNewton; }
   InitMethod init = InitMethod::kAuto;
+  /// With init = auto: when the objective after initialization exceeds this × its degrees of
+  /// freedom (residuals − free tangent dimensions), the guess disagrees with the measurements
+  /// by more than their noise and may be in a wrong basin; the graph is then optimized a second
+  /// time from the spanning-tree guess and the lower minimum kept (0: never).
+  double retry_chi2_per_dof = 1.0;
   OptimizerOptions optimizer;
   PoseGraphProblemOptions problem;
+};
+
+/// Wall time of each phase of optimize_pose_graph (seconds); the optimizer's own phases are in
+/// Summary (setup, symbolic analysis, linearize, evaluate, linear solver), the
+/// initialization's in InitSummary.
+struct PoseGraphPhaseTimes {
+  double input_chi2_s = 0.0;  ///< chi2 of the file's estimates
+  double ordering_s = 0.0;    ///< fill-reducing order over the vertices
+  double gauge_s = 0.0;       ///< gauge choice and connectivity check
+  double init_s = 0.0;
+  double chi2_after_init_s = 0.0;  ///< 0 when the optimizer's first linearization gives it
+  double problem_s = 0.0;          ///< FactorGraph + Values from the PoseGraph
+  double optimize_s = 0.0;
+  double write_back_s = 0.0;  ///< estimates copied into the PoseGraph, final chi2
 };
 
 struct PoseGraphResult {
@@ -30,6 +50,7 @@ struct PoseGraphResult {
   double final_chi2 = 0.0;       ///< g2o chi2 (no robust kernel) of the result
   double time_ordering_s = 0.0;
   double time_total_s = 0.0;     ///< ordering + initialization + problem build + optimization
+  PoseGraphPhaseTimes phases;
   std::vector<std::string> notes;
   CalibrationReport calibration;  ///< estimates with marginal sigmas, when the graph has calibration variables
 };

@@ -34,7 +34,10 @@ inline Key vertex_key(std::int64_t id) { return static_cast<Key>(id); }
 
 /// Throws InputError (naming the edge's line) if an information matrix is not positive
 /// definite or a vertex has no estimate.
-PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& options = {});
+/// `gauge` (with its notes), when the caller already chose it with gauge_vertices(), is used as is.
+PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphProblemOptions& options = {},
+                                          const std::vector<std::int64_t>* gauge = nullptr,
+                                          const std::vector<std::string>* gauge_notes = nullptr);
 
 /// Copies the variables' values back into the graph's vertex estimates (and its calibration).
 void copy_estimates(const Values& values, PoseGraph& g);

@@ -30,6 +30,10 @@ struct InitSummary {
   InitMethod requested = InitMethod::kNone;
   InitMethod used = InitMethod::kNone;  ///< auto resolved to linear/chordal
   double time_s = 0.0;
+  // Phases of time_s (linear/chordal): spanning tree (orientation wraps), symbolic analyses
+  // of the linear systems, their assembly, numeric factorization + solve, landmark guesses.
+  double time_tree_s = 0.0, time_analyze_s = 0.0, time_assemble_s = 0.0, time_solve_s = 0.0, time_points_s = 0.0;
+  int analyses = 0;  ///< symbolic analyses the initialization ran (0 when it shares the optimizer's)
   std::vector<std::string> notes;
 };
 

@@ -36,6 +36,8 @@ struct IterationSummary {
   int linear_solves = 0;       ///< factorizations in this iteration
   bool accepted = true;
   double linear_solver_time_s = 0.0;
+  double evaluate_time_s = 0.0;  ///< residuals, Jacobians and cost of the candidate
+  double assemble_time_s = 0.0;  ///< H and g at the accepted candidate
   double iteration_time_s = 0.0;
   double cumulative_time_s = 0.0;
 };
