@@ -174,4 +174,5 @@ PYBIND11_MODULE(_slamkit, m) {
   sp::init_bundle_adjustment(m);
   sp::init_relaxers(m);
   sp::init_calibration(m);
+  sp::init_filters(m);
 }

@@ -66,7 +66,7 @@ def instances():
         "BalProblem": ba, "BaSimOptions": sk.BaSimOptions(), "BundleAdjustmentResult": ba_result,
         "RelaxerSummary": relaxer, "RelaxerIteration": relaxer.trace[-1], "HogmanOnlineResult": online,
         "CalibrationReport": calib_report, "CalibrationParameterEstimate": calib_report.parameters[0],
-        "CalibrationSimOptions": sk.CalibrationSimOptions(),
+        "CalibrationSimOptions": sk.CalibrationSimOptions(), "LandmarkFilter": sk.make_landmark_filter("ekf"),
     }
 
 

@@ -131,28 +131,11 @@ void Eif::update(const std::vector<RangeBearing>& z) {
 }
 
 std::vector<LandmarkEstimate> Eif::landmarks() const {
-  const Eigen::MatrixXd& P = covariance();
-  std::vector<LandmarkEstimate> out;
-  for (int id : ids_) {
-    const int s = slot(id);
-    out.push_back({id, mu_.segment<2>(s), P.block<2, 2>(s, s)});
-  }
-  return out;
+  return filters_detail::dense_landmarks(ids_, [this](int id) { return slot(id); }, mu_, covariance());
 }
 
 Eigen::MatrixXd Eif::joint_covariance(const std::vector<int>& ids) const {
-  const Eigen::MatrixXd& P = covariance();
-  std::vector<int> rows = {0, 1, 2};
-  for (int id : ids) {
-    const int s = slot(id);
-    if (s < 0) throw InputError("eif", 0, "landmark", "no landmark with id " + std::to_string(id));
-    rows.push_back(s);
-    rows.push_back(s + 1);
-  }
-  Eigen::MatrixXd C(rows.size(), rows.size());
-  for (std::size_t a = 0; a < rows.size(); ++a)
-    for (std::size_t b = 0; b < rows.size(); ++b) C(a, b) = P(rows[a], rows[b]);
-  return C;
+  return filters_detail::dense_joint_covariance("eif", ids, [this](int id) { return slot(id); }, covariance());
 }
 
 }  // namespace slamkit

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "slamkit/core/error.h"
 #include "slamkit/filters/landmark_filter.h"
@@ -117,6 +119,35 @@ inline void check_observations(const std::vector<RangeBearing>& z, const char* f
   for (const auto& o : z)
     if (!(o.range > 0) || !std::isfinite(o.range) || !std::isfinite(o.bearing))
       throw InputError(filter, 0, "observation", "range must be positive and finite, bearing finite");
+}
+
+/// landmarks() and joint_covariance() of a filter with a dense mean μ and covariance P over
+/// [pose; landmarks]; slot(id) is the row of landmark id (or −1).
+template <class Slot>
+std::vector<LandmarkEstimate> dense_landmarks(const std::vector<int>& ids, const Slot& slot,
+                                              const Eigen::VectorXd& mu, const Eigen::MatrixXd& P) {
+  std::vector<LandmarkEstimate> out;
+  for (int id : ids) {
+    const int s = slot(id);
+    out.push_back({id, mu.segment<2>(s), P.block<2, 2>(s, s)});
+  }
+  return out;
+}
+
+template <class Slot>
+Eigen::MatrixXd dense_joint_covariance(const char* filter, const std::vector<int>& ids, const Slot& slot,
+                                       const Eigen::MatrixXd& P) {
+  std::vector<int> rows = {0, 1, 2};
+  for (int id : ids) {
+    const int s = slot(id);
+    if (s < 0) throw InputError(filter, 0, "landmark", "no landmark with id " + std::to_string(id));
+    rows.push_back(s);
+    rows.push_back(s + 1);
+  }
+  Eigen::MatrixXd C(rows.size(), rows.size());
+  for (std::size_t a = 0; a < rows.size(); ++a)
+    for (std::size_t b = 0; b < rows.size(); ++b) C(a, b) = P(rows[a], rows[b]);
+  return C;
 }
 
 }  // namespace slamkit::filters_detail
