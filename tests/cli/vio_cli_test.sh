@@ -6,6 +6,7 @@
 set -uo pipefail
 slamkit=$1
 data=${SLAMKIT_DATA:-$2/../shared/datasets}
+[[ $data = /* ]] || data=$2/$data  # a relative SLAMKIT_DATA is relative to the source tree
 [[ -d "$data/vio" ]] || { echo "SKIPPED: no datasets at $data"; [[ "${CI:-}" == true ]] && exit 1; exit 77; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
