@@ -3,11 +3,13 @@
 # Idempotent: packages already present are skipped. Works as root or through sudo.
 #   scripts/install-deps.sh            # everything (build, tests, benchmarks, fuzzing, browser test)
 #   SLAMKIT_MINIMAL_DEPS=1 scripts/install-deps.sh   # only what the library and CLI need to build
+#   SLAMKIT_PEER_DEPS=1 scripts/install-deps.sh      # also the optional MRPT benchmark peer
 set -euo pipefail
 
 core=(build-essential cmake ninja-build pkg-config
       libeigen3-dev libsuitesparse-dev libopenblas-dev libmetis-dev
-      libcli11-dev nlohmann-json3-dev)
+      libcli11-dev nlohmann-json3-dev
+      libopencv-dev)               # vio front end (KLT, F-matrix RANSAC, image I/O)
 extra=(libgtest-dev libgmock-dev libbenchmark-dev
        libceres-dev                 # benchmark peer only
        clang libclang-rt-14-dev     # libFuzzer + sanitizers for the fuzz targets
@@ -15,8 +17,11 @@ extra=(libgtest-dev libgmock-dev libbenchmark-dev
        python3 git
        python3-dev pybind11-dev python3-numpy python3-pytest)  # the slamkit Python module
 
+peers=(libmrpt-dev)                # optional benchmark peer (EKF-SLAM 2D); large, so opt-in
+
 wanted=("${core[@]}")
 if [[ "${SLAMKIT_MINIMAL_DEPS:-0}" != 1 ]]; then wanted+=("${extra[@]}"); fi
+if [[ "${SLAMKIT_PEER_DEPS:-0}" == 1 ]]; then wanted+=("${peers[@]}"); fi
 
 missing=()
 for pkg in "${wanted[@]}"; do
