@@ -3,8 +3,7 @@
 # optimize --trajectory → eval ate against ground truth. Exit 77 = skipped (no dataset).
 set -uo pipefail
 slamkit=$1 source_dir=$2
-data=${SLAMKIT_DATA:-../shared/datasets}
-[[ "$data" == /* ]] || data="$source_dir/$data"  # relative to the source tree, like the gtests
+source "$(dirname "$0")/dataset.sh" "$source_dir"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -50,10 +49,7 @@ printf 'VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 nan\n' >"$work/nan.g2o"
 grep -q "nan.g2o:2" "$work/err.txt" || fail "NaN message lacks file:line: $(cat "$work/err.txt")"
 
 # 3. Dataset checks (skip when the data is not there, unless CI).
-if [[ ! -d "$data/posegraph" ]]; then
-  [[ "${CI:-}" == true ]] && fail "dataset missing under CI: $data"
-  echo "SKIPPED: dataset not found: $data"; exit 77
-fi
+require_data posegraph
 "$slamkit" optimize "$data/posegraph/3d/cubicle.g2o" -q >"$work/err.txt" 2>&1 && fail "indefinite information accepted"
 grep -q -- "--repair-information" "$work/err.txt" || fail "no repair hint: $(cat "$work/err.txt")"
 # Ground truth of sphere2500: its noise-free measurements composed along the odometry.

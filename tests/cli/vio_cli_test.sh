@@ -5,9 +5,8 @@
 # without the datasets.
 set -uo pipefail
 slamkit=$1
-data=${SLAMKIT_DATA:-$2/../shared/datasets}
-[[ $data = /* ]] || data=$2/$data  # a relative SLAMKIT_DATA is relative to the source tree
-[[ -d "$data/vio" ]] || { echo "SKIPPED: no datasets at $data"; [[ "${CI:-}" == true ]] && exit 1; exit 77; }
+source "$(dirname "$0")/dataset.sh" "$2"
+require_data vio
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
