@@ -40,6 +40,8 @@ cmp -s "$work/a.vis" "$work/c.vis" && fail "another seed gave the same file"
 python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert j['camera']['model']=='radtan' and j['dynamic_share']==0" \
   "$work/e.json" || fail "EuRoC JSON"
 grep -q "^camera radtan 752 480" "$work/e.vis" || fail "EuRoC camera line"
+"$slamkit" report "$work/a.json" "$work/e.json" -o "$work/report.html" >/dev/null 2>&1 || fail "report of simulate JSON"
+grep -q 'id="simulations"' "$work/report.html" && grep -q "euroc:V1_02" "$work/report.html" || fail "no simulations table"
 "$slamkit" simulate --vi "$data/vio/sim_trajectories/euroc_V1_01_easy.txt" --duration 5 --dynamic low --data "$data" \
   -o "$work/f.vis" >/dev/null 2>&1 || fail "simulate a TUM file"
 

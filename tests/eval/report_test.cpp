@@ -86,6 +86,28 @@ TEST(Report, RunsWithDifferentUnitsGetTheirOwnSections) {
   EXPECT_EQ(count(html, "<table"), 3u);
 }
 
+nlohmann::json simulate_doc(const std::string& output, const std::string& dynamic) {
+  return {{"kind", "simulate"}, {"source", "room1"}, {"output", output}, {"seed", 3}, {"dynamic", dynamic},
+          {"camera", {{"model", "equidistant"}}}, {"duration_s", 10.0}, {"frames", 200},
+          {"features_per_frame", {{"mean", 148.5}, {"min", 120}}}, {"dynamic_share", 0.21},
+          {"static_ratio", {{"mean", 0.79}, {"min", 0.41}}},
+          {"landmarks", {{"static", 4000}, {"dynamic", 160}, {"groups", 4}}},
+          {"spline_fit", {{"position_rmse_m", 0.0004}, {"rotation_rmse_deg", 0.02}}}};
+}
+
+TEST(Report, SimulatedRunsGetTheirTable) {
+  const std::string h = render_html_report(
+      {{"a.json", simulate_doc("high.vis", "high")}, {"b.json", simulate_doc("none.vis", "none")},
+       {"c.json", eval_doc(MetricKind::kAte, "vio", 0.02)}},
+      {});
+  EXPECT_EQ(count(h, "id=\"simulations\""), 1);
+  EXPECT_EQ(count(h, "href=\"#simulations\""), 1);
+  EXPECT_NE(h.find("high.vis"), std::string::npos);
+  EXPECT_NE(h.find("none.vis"), std::string::npos);
+  EXPECT_NE(h.find("2 simulation"), std::string::npos);
+  EXPECT_NE(h.find("<td>0.410</td>"), std::string::npos);  // M min
+}
+
 TEST(Report, UnknownKindsAndMalformedRunsAreClearErrors) {
   auto expect_error = [](const nlohmann::json& doc, const std::string& field) {
     try {
@@ -99,6 +121,12 @@ TEST(Report, UnknownKindsAndMalformedRunsAreClearErrors) {
   expect_error({{"kind", "particle-cloud"}}, "kind");
   expect_error({{"kind", "filter"}}, "runs");  // a filter run (filter_report.h) without its fields
   expect_error({{"label", "x"}}, "kind");
+  nlohmann::json sim = simulate_doc("x.vis", "low");
+  sim["static_ratio"].erase("min");
+  expect_error(sim, "static_ratio.min");
+  sim = simulate_doc("x.vis", "low");
+  sim["frames"] = "many";
+  expect_error(sim, "frames");
   expect_error(nlohmann::json::array(), "kind");
   nlohmann::json opt = optimize_doc("lm", 1.0);
   opt.erase("trace");
