@@ -68,35 +68,7 @@ PoseGraphProblemOptions problem_options(const py::object& robust, bool loops_onl
 
 // The CLI's --json document of `slamkit optimize`, from the result (keys as cmd_optimize.cpp).
 py::dict result_dict(const PoseGraphResult& r, const PoseGraph& g) {
-  py::dict j = py::module_::import("json").attr("loads")(r.summary.to_json());
-  j["format"] = g.format;
-  j["dimension"] = g.dimension();
-  j["vertices"] = g.vertices().size();
-  j["edges"] = g.edges.size();
-  j["init"] = to_string(r.init.used);
-  j["init_requested"] = to_string(r.init.requested);
-  j["initial_chi2"] = r.input_chi2;
-  j["chi2_after_init"] = r.chi2_after_init;
-  j["optimizer_initial_cost"] = r.summary.initial_cost;
-  j["final_cost"] = r.summary.final_cost;
-  j["final_chi2"] = r.final_chi2;
-  j["time_init_s"] = r.init.time_s;
-  j["time_ordering_s"] = r.time_ordering_s;
-  j["time_optimize_s"] = r.summary.time_total_s;
-  j["time_total_s"] = r.time_total_s;
-  j["notes"] = r.notes;
-  if (!r.calibration.parameters.empty() || !r.calibration.warnings.empty()) {  // as cmd_optimize's add_calibration_json
-    py::list list;
-    for (const CalibrationParameterEstimate& p : r.calibration.parameters) {
-      py::dict e;
-      e["name"] = p.name, e["value"] = p.value, e["observable"] = p.observable;
-      e["sigma"] = std::isfinite(p.sigma) ? py::object(py::float_(p.sigma)) : py::object(py::none());
-      list.append(e);
-    }
-    j["calibration"] = list;
-    j["calibration_warnings"] = r.calibration.warnings;
-  }
-  return j;
+  return py::module_::import("json").attr("loads")(pose_graph_result_to_json(r, g));
 }
 
 }  // namespace

@@ -24,15 +24,7 @@ void print_calibration(const CalibrationReport& report) {
   }
 }
 
-void add_calibration_json(nlohmann::json& j, const CalibrationReport& report, const std::string& input) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const CalibrationParameterEstimate& p : report.parameters) {
-    nlohmann::json e = {{"name", p.name}, {"value", p.value}, {"observable", p.observable}};
-    e["sigma"] = std::isfinite(p.sigma) ? nlohmann::json(p.sigma) : nlohmann::json(nullptr);
-    list.push_back(e);
-  }
-  j["calibration"] = list;
-  j["calibration_warnings"] = report.warnings;
+void add_calibration_truth_json(nlohmann::json& j, const std::string& input) {
   CalibrationSimOptions sim;
   if (parse_calibration_sim_spec(input, &sim)) {
     CalibrationTruth truth;

@@ -13,7 +13,8 @@ namespace slamkit::cli {
 /// Prints the estimates with their sigmas (stdout) and the warnings (stderr).
 void print_calibration(const CalibrationReport& report);
 
-/// Adds `calibration` (and `calibration_truth` for sim:calib* inputs) to j.
-void add_calibration_json(nlohmann::json& j, const CalibrationReport& report, const std::string& input);
+/// Adds `calibration_truth` to j when the input is a generated sim:calib* problem (the
+/// estimates themselves come with pose_graph_result_to_json).
+void add_calibration_truth_json(nlohmann::json& j, const std::string& input);
 
 }  // namespace slamkit::cli

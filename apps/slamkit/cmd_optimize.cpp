@@ -104,30 +104,13 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
   }
   if (!a.trajectory.empty()) write_trajectory(a.trajectory, to_trajectory(g), TrajectoryFormat::kTum);
   if (!a.json.empty()) {
-    nlohmann::json j = nlohmann::json::parse(r.summary.to_json());
+    nlohmann::json j = nlohmann::json::parse(pose_graph_result_to_json(r, g));
     j["label"] = a.label.empty() ? a.input + " (" + a.s.solver + ", " + to_string(r.init.used) + ")" : a.label;
     j["file"] = a.input;
-    j["format"] = g.format;
-    j["dimension"] = g.dimension();
-    j["vertices"] = g.vertices().size();
-    j["edges"] = g.edges.size();
-    j["init"] = to_string(r.init.used);
-    j["init_requested"] = to_string(r.init.requested);
-    j["initial_chi2"] = r.input_chi2;
-    j["chi2_after_init"] = r.chi2_after_init;
-    j["optimizer_initial_cost"] = r.summary.initial_cost;
-    j["final_cost"] = r.summary.final_cost;
-    j["final_chi2"] = r.final_chi2;
     j["robust"] = a.s.robust;
     j["config"] = nlohmann::json::parse(optimize_config_to_json(a.s));  // the run's settings, reusable as --config
     j["time_load_s"] = load_time;
-    j["time_init_s"] = r.init.time_s;
-    j["time_ordering_s"] = r.time_ordering_s;
-    j["time_optimize_s"] = r.summary.time_total_s;
-    j["time_total_s"] = r.time_total_s;  // end to end: ordering + initialization + optimization
-    j["time_end_to_end_s"] = r.time_total_s;
-    j["notes"] = r.notes;
-    if (!r.calibration.parameters.empty() || !r.calibration.warnings.empty()) add_calibration_json(j, r.calibration, a.input);
+    if (j.contains("calibration")) add_calibration_truth_json(j, a.input);
     write_json(a.json, j);
   }
   if (!r.summary.success())

@@ -57,4 +57,12 @@ struct PoseGraphResult {
 
 PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOptions& options = {});
 
+/// The result as the JSON document of `slamkit optimize --json` (a string, like
+/// Summary::to_json, whose fields it extends): the graph's format, dimension and counts, init
+/// used and requested, the chi2 before and after initialization and at the end (g2o metric),
+/// the optimizer's costs, the phase times, notes, and the calibration estimates when there are
+/// any. The CLI adds what only it knows (label, file, load time, the run's config); Python's
+/// optimize_pose_graph(as_dict=True) returns it as a dict.
+std::string pose_graph_result_to_json(const PoseGraphResult& result, const PoseGraph& graph);
+
 }  // namespace slamkit
