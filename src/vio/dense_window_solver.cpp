@@ -10,6 +10,7 @@
 #include <string>
 
 #include "slamkit/core/error.h"
+#include "slamkit/factors/marginalization_prior.h"
 #include "slamkit/geometry/lie_math.h"
 
 namespace slamkit {
@@ -175,10 +176,41 @@ double DenseWindowSolver::linearize(const std::vector<ImuState>& states, const s
     const int m = sf.factor->residual_dim();
     const std::size_t k = sf.states.size();
     r.resize(m);
+    ptrs.clear();
+    for (std::size_t v = 0; v < k; ++v) ptrs.push_back(params[sf.states[v]].data());
+    if (dynamic_cast<const MarginalizationPrior<ImuState>*>(sf.factor.get())) {
+      // Constant Jacobian: JᵀJ from the cache, only the residual is evaluated.
+      if (prior_cache_.factor != sf.factor) {
+        J.assign(k, Eigen::MatrixXd(m, kS));
+        jptrs.clear();
+        for (std::size_t v = 0; v < k; ++v) jptrs.push_back(J[v].data());
+        if (!std::isfinite(sf.factor->linearize(ptrs.data(), r.data(), jptrs.data())))
+          throw NumericalError("dense window: the prior does not evaluate to a finite number");
+        prior_cache_.J.resize(m, kS * k);
+        for (std::size_t v = 0; v < k; ++v)
+          for (int col = 0; col < kS; ++col) prior_cache_.J.col(kS * v + col) = J[v].col(kToTangent[col]);
+        prior_cache_.H.noalias() = prior_cache_.J.transpose() * prior_cache_.J;
+        prior_cache_.factor = sf.factor;
+      }
+      const double c = sf.factor->linearize(ptrs.data(), r.data(), nullptr);
+      if (!std::isfinite(c)) throw NumericalError("dense window: the prior does not evaluate to a finite number");
+      cost += c;
+      const Eigen::VectorXd gp = prior_cache_.J.transpose() * r;
+      for (std::size_t a = 0; a < k; ++a) {
+        const int sa = sf.states[a];
+        lin.touched[sa] = 1;
+        lin.g.segment<kS>(kS * sa) += gp.segment<kS>(kS * a);
+        for (std::size_t b = 0; b < k; ++b) {
+          const int sb = sf.states[b];
+          if (sa <= sb) lin.H.block<kS, kS>(kS * sa, kS * sb) += prior_cache_.H.block<kS, kS>(kS * a, kS * b);
+        }
+      }
+      continue;
+    }
     J.assign(k, Eigen::MatrixXd(m, kS));
     Jint.assign(k, Eigen::MatrixXd(m, kS));
-    ptrs.clear(), jptrs.clear();
-    for (std::size_t v = 0; v < k; ++v) ptrs.push_back(params[sf.states[v]].data()), jptrs.push_back(J[v].data());
+    jptrs.clear();
+    for (std::size_t v = 0; v < k; ++v) jptrs.push_back(J[v].data());
     const double c = sf.factor->linearize(ptrs.data(), r.data(), jptrs.data());
     if (!std::isfinite(c)) throw NumericalError("dense window: a prior or IMU factor does not evaluate to a finite number");
     cost += c;

@@ -8,6 +8,7 @@
 
 #include "slamkit/core/error.h"
 #include "slamkit/factors/inverse_depth_factor.h"
+#include "slamkit/factors/marginalization_prior.h"
 #include "slamkit/factors/prior_factor.h"
 #include "slamkit/solvers/optimizer.h"
 #include "slamkit/vio/dense_window_solver.h"
@@ -156,6 +157,55 @@ TEST(DenseWindowSolver, MarginalMatchesTheSchurFacility) {
       EXPECT_LT((m.H.block<15, 15>(15 * pos[a], 15 * pos[b]) - ref.H.block<15, 15>(15 * a, 15 * b)).cwiseAbs().maxCoeff(),
                 1e-8 * scale);
   }
+}
+
+// The window after marginalizing its first state: the MarginalizationPrior (cached JᵀJ path),
+// the remaining IMU factors and features; the dense solver and the engine agree again.
+TEST(DenseWindowSolver, ReachesTheEnginesMinimumWithAMarginalizationPrior) {
+  const Window w;
+  const DenseMarginal m = w.solver().marginalize_first(w.states, w.features, w.factors);
+  Window v;  // same scene; rebuilt as the window of states 1..n−1
+  v.states.assign(w.states.begin() + 1, w.states.end());
+  std::vector<Key> keys;
+  std::vector<ImuState> x_bar;
+  std::vector<int> idx;
+  for (int i : m.kept) keys.push_back(symbol('x', i - 1)), x_bar.push_back(w.states[i]), idx.push_back(i - 1);
+  v.factors.clear();
+  v.factors.push_back({MarginalizationPrior<ImuState>::from_hessian(keys, x_bar, m.H, m.g), idx});
+  for (std::size_t k = 2; k < w.factors.size(); ++k) {  // IMU factors 1→2, ...: re-keyed
+    const auto& f = static_cast<const ImuFactor&>(*w.factors[k].factor);
+    const int i = w.factors[k].states[0] - 1;
+    v.factors.push_back({std::make_shared<ImuFactor>(symbol('x', i), symbol('x', i + 1), f.preintegration(), f.gravity()),
+                         {i, i + 1}});
+  }
+  v.features.clear();
+  for (const WindowFeature& f : w.features) {
+    if (f.anchor == 0) continue;
+    WindowFeature g = f;
+    g.anchor -= 1;
+    for (WindowObservation& o : g.obs) o.state -= 1;
+    v.features.push_back(g);
+  }
+  FactorGraph G;
+  Values V;
+  v.graph(G, V, false, nullptr);
+  OptimizerOptions o;
+  o.algorithm = Algorithm::kLevenbergMarquardt;
+  o.max_iterations = 50;
+  o.function_tolerance = 1e-14;
+  o.num_threads = 1;
+  o.schur_eliminate = [](Key k) { return symbol_char(k) == 'l'; };
+  o.schur.method = SchurMethod::kDense;
+  const Summary s = Optimizer(o).optimize(G, V);
+  DenseWindowOptions d;
+  d.max_iterations = 50;
+  d.function_tolerance = 1e-14;
+  const DenseWindowSolver solver = v.solver();
+  EXPECT_NEAR(solver.cost(v.states, v.features, v.factors), s.initial_cost, 1e-9 * s.initial_cost);
+  const DenseWindowSummary r = solver.optimize(v.states, v.features, v.factors, d);
+  EXPECT_NEAR(r.final_cost, s.final_cost, 1e-6 * s.final_cost);
+  for (std::size_t i = 0; i < v.states.size(); ++i)
+    EXPECT_LT(v.states[i].minus(V.at<ImuState>(symbol('x', i))).norm(), 1e-5) << "state " << i;
 }
 
 TEST(DenseWindowSolver, ObservationWeightsScaleTheCost) {

@@ -26,7 +26,10 @@
 // λ = 0), then state 0 (LLT of its 15×15 block); H*, g* on the other touched states (tangent
 // order) are what MarginalizationPrior::from_hessian takes.
 //
-// Single-threaded and deterministic: results do not depend on any thread count.
+// A MarginalizationPrior<ImuState> has first-estimate (constant) Jacobians: its JᵀJ is formed
+// once per prior object and cached; each linearization only evaluates its residual.
+// Single-threaded and deterministic: results do not depend on any thread count. Not
+// thread-safe (the prior cache).
 #pragma once
 
 #include <Eigen/Core>
@@ -111,6 +114,11 @@ class DenseWindowSolver {
   SE3 T_imu_cam_;
   double inv_sigma_;
   std::shared_ptr<const RobustKernel> kernel_;
+  struct PriorCache {
+    std::shared_ptr<const Factor> factor;
+    Eigen::MatrixXd J, H;  // whitened Jacobian and JᵀJ, columns in internal order per variable
+  };
+  mutable PriorCache prior_cache_;
 };
 
 }  // namespace slamkit
