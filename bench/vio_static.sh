@@ -3,6 +3,8 @@
 # EuRoC V1_01, V1_02, V2_03, seeds 1..N (default 5), and the summary (median, mean, min, max of
 # ATE RMSE; timing) in bench/results/vio_static.json.
 # Usage: bench/vio_static.sh [BUILD_DIR] [SEEDS] [DURATION_S (0: whole path)]
+# Extra `slamkit vio` options in $VIO_ARGS (e.g. VIO_ARGS="--solver generic"); the load average
+# at the start is recorded (timings on a shared machine).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=${1:-$here/../build}
@@ -15,10 +17,11 @@ for seq in room1 room2 room3 room4 euroc:V1_01 euroc:V1_02 euroc:V2_03; do
   for seed in $(seq 1 "$seeds"); do
     name=${seq//:/_}_$seed
     "$slamkit" simulate --vi "$seq" --seed "$seed" --duration "$duration" -o "$work/$name.sim" >/dev/null 2>&1
-    "$slamkit" vio --sim "$work/$name.sim" --quiet --json "$work/$name.json" | tail -1 | sed "s/^/$seq seed $seed: /"
+    "$slamkit" vio --sim "$work/$name.sim" --quiet ${VIO_ARGS:-} --json "$work/$name.json" | tail -1 | sed "s/^/$seq seed $seed: /"
   done
 done
-python3 - "$work" "$here/results/vio_static.json" "$seeds" "$duration" <<'PY'
+load=$(cut -d' ' -f1 /proc/loadavg)
+python3 - "$work" "$here/results/vio_static.json" "$seeds" "$duration" "${VIO_ARGS:-}" "$load" <<'PY'
 import json, sys, glob, os, statistics as st
 work, out, seeds, duration = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
 rows = {}
@@ -26,7 +29,8 @@ for f in sorted(glob.glob(os.path.join(work, "*.json"))):
     j = json.load(open(f))
     rows.setdefault(j["vio"]["source"], []).append(j)
 summary = {"seeds": seeds, "duration_s": duration or "whole path", "acceptance_ate_rmse_m": 0.05,
-           "initialization": "true state at the first frame (biases zero)", "sequences": {}}
+           "initialization": "true state at the first frame (biases zero)", "vio_args": sys.argv[5],
+           "load_average_at_end": float(sys.argv[6]), "sequences": {}}
 for src, runs in rows.items():
     ate = [r["ate_rmse"] for r in runs]
     summary["sequences"][src] = {
@@ -39,10 +43,14 @@ for src, runs in rows.items():
         "solve_time_per_frame_ms": st.mean(r["solve_time_per_frame_ms"]["mean"] for r in runs),
         "marginalization_time_per_frame_ms": st.mean(r["marginalization_time_per_frame_ms"]["mean"] for r in runs),
         "keyframes": st.mean(r["keyframes"] for r in runs),
+        "iterations_per_keyframe": st.mean(r.get("iterations_per_keyframe", 0) for r in runs),
+        "solver": runs[0].get("solver", "generic"),
         "features_per_frame": st.mean(r["features_per_frame"] for r in runs),
         "met": max(ate) <= 0.05,
         "runs": [{"seed": r["vio"]["seed"], "ate_rmse": r["ate_rmse"], "rpe_rmse": r["rpe_rmse"],
-                  "realtime_factor": r["realtime_factor"]} for r in runs]}
+                  "realtime_factor": r["realtime_factor"], "realtime_factor_cpu": r["realtime_factor_cpu"],
+                  "solve_ms": r["solve_time_per_frame_ms"]["mean"],
+                  "marginalization_ms": r["marginalization_time_per_frame_ms"]["mean"]} for r in runs]}
 json.dump(summary, open(out, "w"), indent=1)
 print("wrote", out)
 PY

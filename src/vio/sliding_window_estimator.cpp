@@ -34,8 +34,11 @@ SlidingWindowEstimator::SlidingWindowEstimator(SlidingWindowOptions options, std
       pool_(options_.num_threads),
       pixel_noise_(NoiseModel::isotropic(2, options_.pixel_sigma)),
       kernel_(std::make_shared<CauchyKernel>(options_.cauchy_delta)),
+      dense_(camera_, T_imu_cam_, options_.pixel_sigma, kernel_),
       pending_(ImuBias{}, options_.imu_noise) {
   if (!camera_) throw std::invalid_argument("SlidingWindowEstimator: no camera model");
+  if (options_.dvi.enabled && !options_.dense_solver)
+    throw std::invalid_argument("SlidingWindowEstimator: DVI weights need the dense window solver");
   if (options_.window_size < 2) throw std::invalid_argument("SlidingWindowEstimator: window_size must be at least 2");
 }
 
@@ -94,13 +97,14 @@ bool SlidingWindowEstimator::try_triangulate(Feature& f) const {
   return true;
 }
 
-void SlidingWindowEstimator::add_keyframe(const CameraFrame& frame, const ImuState& predicted) {
-  Keyframe kf{next_keyframe_id_++, frame.stamp, predicted, {}};
+void SlidingWindowEstimator::add_keyframe(const CameraFrame& frame, const ImuState& predicted, double visual_weight) {
+  Keyframe kf{next_keyframe_id_++, frame.stamp, predicted, {}, visual_weight};
   imu_factors_.push_back(pending_);
   pending_ = ImuPreintegration(ImuBias{predicted.bg, predicted.ba}, options_.imu_noise);
   for (const FeatureObservation& o : frame.features) {
     if (!o.pixel.allFinite()) continue;
     kf.pixels[o.track_id] = o.pixel;
+    if (!(visual_weight > 0.0)) continue;  // DVI dropped the frame's vision: parallax only
     auto it = features_.find(o.track_id);
     if (it != features_.end()) {
       it->second.obs.emplace_back(kf.id, o.pixel);
@@ -141,6 +145,7 @@ void SlidingWindowEstimator::build(FactorGraph& graph, Values& values, bool only
 }
 
 int SlidingWindowEstimator::solve() {
+  if (options_.dense_solver) return solve_dense();
   FactorGraph graph;
   Values values;
   build(graph, values, false, nullptr);
@@ -169,15 +174,19 @@ int SlidingWindowEstimator::solve() {
 }
 
 void SlidingWindowEstimator::marginalize_oldest() {
-  FactorGraph graph;
-  Values values;
-  std::vector<Key> oldest_features;
-  build(graph, values, true, &oldest_features);
-  const Key x0 = state_key(keyframes_.front().id);
-  const MarginalSystem m = marginalize(graph, values, oldest_features, {x0}, pool_);
-  std::vector<ImuState> x_bar;
-  for (Key k : m.kept) x_bar.push_back(values.at<ImuState>(k));
-  prior_ = MarginalizationPrior<ImuState>::from_hessian(m.kept, x_bar, m.H, m.g);
+  if (options_.dense_solver) {
+    marginalize_oldest_dense();
+  } else {
+    FactorGraph graph;
+    Values values;
+    std::vector<Key> oldest_features;
+    build(graph, values, true, &oldest_features);
+    const Key x0 = state_key(keyframes_.front().id);
+    const MarginalSystem m = marginalize(graph, values, oldest_features, {x0}, pool_);
+    std::vector<ImuState> x_bar;
+    for (Key k : m.kept) x_bar.push_back(values.at<ImuState>(k));
+    prior_ = MarginalizationPrior<ImuState>::from_hessian(m.kept, x_bar, m.H, m.g);
+  }
   // Drop the keyframe and its IMU factor; a feature anchored in it moves to its next
   // observation (as VINS-Mono shifts the depth): the bearing of that pixel, the inverse
   // distance of the current point from that camera. Features seen nowhere else are dropped.
@@ -232,11 +241,26 @@ FrameEstimate SlidingWindowEstimator::add_frame(const CameraFrame& frame) {
   FrameEstimate out;
   out.stamp = frame.stamp;
   out.features = static_cast<int>(frame.features.size());
+  // DVI: M = static / all by the front end's flags; with dvi on the dynamic observations go,
+  // the frame's vision is weighted by α(M), or dropped when M < θ.
+  int n_static = 0;
+  for (const FeatureObservation& o : frame.features) n_static += !o.dynamic;
+  out.static_ratio = frame.features.empty() ? 1.0 : static_cast<double>(n_static) / frame.features.size();
+  CameraFrame used;
+  const CameraFrame* in = &frame;
+  if (options_.dvi.enabled) {
+    used.stamp = frame.stamp, used.dynamic_groups = frame.dynamic_groups;
+    for (const FeatureObservation& o : frame.features)
+      if (!o.dynamic) used.features.push_back(o);
+    in = &used;
+    out.visual_dropped = out.static_ratio < options_.dvi.theta_for(frame.dynamic_groups);
+    out.visual_weight = out.visual_dropped ? 0.0 : options_.dvi.alpha_of(out.static_ratio);
+  }
   const ImuState predicted = pending_.predict(keyframes_.back().state, options_.gravity);
   // Keyframe decision: mean pixel motion of the tracks shared with the last keyframe.
   double parallax = 0.0;
   int common = 0;
-  for (const FeatureObservation& o : frame.features) {
+  for (const FeatureObservation& o : in->features) {
     const auto it = keyframes_.back().pixels.find(o.track_id);
     if (it == keyframes_.back().pixels.end()) continue;
     parallax += (o.pixel - it->second).norm(), ++common;
@@ -245,14 +269,14 @@ FrameEstimate SlidingWindowEstimator::add_frame(const CameraFrame& frame) {
   ++frames_since_keyframe_;
   const bool keyframe = frames_since_keyframe_ >= options_.max_frames_between_keyframes ||
                         parallax >= options_.keyframe_parallax_px ||
-                        common < static_cast<int>(frame.features.size()) / 2;
+                        common < static_cast<int>(in->features.size()) / 2;
   if (!keyframe) {
     out.state = predicted;
     return out;
   }
   frames_since_keyframe_ = 0;
   out.keyframe = true;
-  add_keyframe(frame, predicted);
+  add_keyframe(*in, predicted, out.visual_weight);
   auto t0 = std::chrono::steady_clock::now();
   out.iterations = solve();
   out.solve_ms = ms_since(t0);

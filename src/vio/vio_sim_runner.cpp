@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "slamkit/core/error.h"
+#include "slamkit/vio/feature_classifier.h"
 
 namespace slamkit {
 namespace {
@@ -72,6 +73,7 @@ VioRunResult run_vio_on_sim(const VisualInertialSim& sim, SlidingWindowOptions o
   std::size_t next_imu = 0;
   while (next_imu < sim.imu.size() && sim.imu[next_imu].t < first.t - 0.05) ++next_imu;
   double features = 0.0;
+  SimLabelClassifier classifier(sim);  // the front end's static/dynamic flags (DVI)
   for (std::size_t k = start; k < sim.frames.size(); ++k) {
     const SimFrame& f = sim.frames[k];
     // IMU up to and including the sample at the frame time (and one beyond, if any).
@@ -86,6 +88,7 @@ VioRunResult run_vio_on_sim(const VisualInertialSim& sim, SlidingWindowOptions o
     cf.stamp = f.t;
     for (const SimObservation& o : f.observations)
       cf.features.push_back({static_cast<std::uint64_t>(o.track_id), o.uv});
+    classifier.classify(k, cf);
     const FrameEstimate e = est.add_frame(cf);
     if (!e.state.p.allFinite() || !e.state.v.allFinite())
       throw NumericalError("vio: the estimate at t = " + std::to_string(f.t) + " is not finite");

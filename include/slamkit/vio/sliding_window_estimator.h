@@ -4,7 +4,13 @@
 // x<id>; features as inverse depths l<n> anchored in the keyframe of their first observation
 // (bearing from the camera model's unproject). Cost
 //   ‖prior‖² + Σ_IMU ‖r_ij‖²_Σij + Σ_obs ρ_Cauchy(‖π(P) − z‖² / σ_px²)
-// solved by the slamkit Optimizer (LM, inverse depths eliminated by the Schur complement).
+// solved by vio/dense_window_solver.h (a dense window system, inverse depths eliminated on the
+// fly, LM; `dense_solver = false` goes through the generic slamkit Optimizer instead, the
+// reference the dense path is tested against).
+// DVI (issue 13, `dvi`): each observation carries the front end's static/dynamic flag; with
+// dvi on, dynamic observations are not used, a frame's visual factors are weighted by α(M),
+// M = static / all of the frame, and a frame with M < θ keeps no visual factors (IMU only).
+// dvi off (default) is the baseline: every feature is used as static, α = 1 (VINS-Mono).
 // Frames: the IMU is preintegrated from the last keyframe; a frame becomes a keyframe when
 // the mean pixel motion of the common tracks since the last keyframe reaches
 // keyframe_parallax_px, or after max_frames_between_keyframes frames. A non-keyframe (the
@@ -26,6 +32,7 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -34,18 +41,41 @@
 #include "slamkit/core/parallel.h"
 #include "slamkit/factors/imu_preintegration.h"
 #include "slamkit/geometry/camera_models.h"
+#include "slamkit/vio/dense_window_solver.h"
 
 namespace slamkit {
 
 struct FeatureObservation {
   std::uint64_t track_id = 0;
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  bool dynamic = false;  ///< the front end's classification (vio/feature_classifier.h)
 };
 
 struct CameraFrame {
   double stamp = 0.0;
   std::vector<FeatureObservation> features;
+  int dynamic_groups = -1;  ///< moving groups the front end sees (−1: unknown); for the adaptive θ
 };
+
+/// Adaptive visual weighting (DVI-SLAM, issue 13 part 2). α(M) for M = static / all features of
+/// a frame: kOne α = 1, kRatio α = M, kPower α = M^alpha_power. θ: fixed, or (adaptive_theta)
+/// θ = min(theta_max, theta + theta_per_group · dynamic_groups) when the front end counts groups.
+struct DviOptions {
+  enum class Alpha { kOne, kRatio, kPower };
+  bool enabled = false;  ///< off: baseline, dynamic flags ignored, α = 1
+  Alpha alpha = Alpha::kRatio;
+  double alpha_power = 2.0;
+  double theta = 0.5;
+  bool adaptive_theta = false;
+  double theta_per_group = 0.05, theta_max = 0.8;
+  /// θ for a frame that sees `groups` moving groups (−1: unknown ⇒ the fixed θ).
+  double theta_for(int groups) const;
+  double alpha_of(double static_ratio) const;
+};
+/// "1" | "M" | "M^k" (k > 0); InputError (field "alpha") otherwise.
+void parse_dvi_alpha(const std::string& text, DviOptions* o);
+/// A number in [0, 1], or "adaptive" / "adaptive:BASE,PER_GROUP,MAX"; InputError (field "theta") otherwise.
+void parse_dvi_theta(const std::string& text, DviOptions* o);
 
 struct SlidingWindowOptions {
   int window_size = 10;                  ///< keyframes in the window
@@ -57,6 +87,8 @@ struct SlidingWindowOptions {
   double min_depth = 0.1, max_depth = 50.0;
   double min_triangulation_angle_deg = 1.0;
   int max_iterations = 5;
+  bool dense_solver = true;  ///< vio/dense_window_solver.h; false: the generic Optimizer (no DVI weights)
+  DviOptions dvi;
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
   ImuNoise imu_noise;
   /// Prior on the first state (1σ): rotation [rad], position [m], velocity [m/s], biases.
@@ -73,6 +105,9 @@ struct FrameEstimate {
   int features_in_problem = 0; ///< features in the window's problem after this frame
   int iterations = 0;
   double solve_ms = 0.0, marginalization_ms = 0.0;
+  double static_ratio = 1.0;   ///< M = static / all features of the frame (front-end flags)
+  double visual_weight = 1.0;  ///< α(M) its visual factors got (0: dropped)
+  bool visual_dropped = false; ///< DVI: M < θ, the frame kept no visual factors
 };
 
 class SlidingWindowEstimator {
@@ -100,6 +135,7 @@ class SlidingWindowEstimator {
     double stamp;
     ImuState state;
     std::unordered_map<std::uint64_t, Eigen::Vector2d> pixels;  // by track id
+    double visual_weight = 1.0;  // α of its observations
   };
   struct Feature {
     std::uint64_t key_index;   // l<key_index>
@@ -112,7 +148,14 @@ class SlidingWindowEstimator {
 
   const Keyframe* keyframe(std::uint64_t id) const;
   bool try_triangulate(Feature& f) const;
-  void add_keyframe(const CameraFrame& frame, const ImuState& predicted);
+  /// visual_weight 0: the keyframe keeps its pixels (parallax) but no observation.
+  void add_keyframe(const CameraFrame& frame, const ImuState& predicted, double visual_weight);
+  /// The window as a dense problem: states, features (only_oldest: anchored in the oldest), their
+  /// track ids, the prior and IMU factors (only_oldest: those touching the oldest).
+  void dense_problem(bool only_oldest, std::vector<ImuState>& states, std::vector<WindowFeature>& features,
+                     std::vector<std::uint64_t>& tracks, std::vector<WindowStateFactor>& factors) const;
+  int solve_dense();
+  void marginalize_oldest_dense();
   /// Factors of the window (all, or only those that touch the oldest keyframe).
   void build(FactorGraph& graph, Values& values, bool only_oldest, std::vector<Key>* oldest_features) const;
   int solve();
@@ -124,6 +167,7 @@ class SlidingWindowEstimator {
   ThreadPool pool_;
   std::shared_ptr<const NoiseModel> pixel_noise_;
   std::shared_ptr<const RobustKernel> kernel_;
+  DenseWindowSolver dense_;
   std::deque<Keyframe> keyframes_;
   std::deque<ImuPreintegration> imu_factors_;  // [k]: keyframes_[k] → keyframes_[k + 1]
   std::unordered_map<std::uint64_t, Feature> features_;  // by track id

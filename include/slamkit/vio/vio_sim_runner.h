@@ -4,8 +4,9 @@
 // which the IMU shows motion (accelerometer std over the last 1 s ≥ 0.25 m/s², VINS-Mono's
 // excitation check; EuRoC's MAVs stand still at first), from the true state there (pose,
 // velocity; biases set to zero); no ground truth is used afterwards.
-// Dynamic observations are used like static ones (the labels are not read): the static-scene
-// runs have none.
+// Every observation is flagged static/dynamic by the simulator's labels (SimLabelClassifier,
+// vio/feature_classifier.h); the estimator uses the flags only with options.dvi.enabled
+// (baseline: dynamic observations are used like static ones).
 #pragma once
 
 #include <ctime>
