@@ -2,12 +2,15 @@
 // the visual-inertial simulator on it (TUM-VI fisheye and IMU noise, or EuRoC radtan for the
 // euroc: paths) and writes the run in the slamkit simulation format (docs/formats.md), with a
 // summary, JSON (--json), the true trajectory at the camera times (--truth, TUM) and a top
-// view of the room (--plot, SVG). See docs/simulator.md.
+// view of the room (--plot, SVG). With --images DIR it also renders the grayscale images and
+// per-pixel labels of the run (sim/image_renderer.h) into an EuRoC/ASL folder (vio/image_io.h).
+// See docs/simulator.md.
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -16,7 +19,9 @@
 #include "slamkit/io/kalibr_calibration.h"
 #include "slamkit/io/trajectory_io.h"
 #include "slamkit/io/visual_inertial_sim_io.h"
+#include "slamkit/sim/image_renderer.h"
 #include "slamkit/sim/visual_inertial_sim.h"
+#include "slamkit/vio/image_io.h"
 
 namespace slamkit::cli {
 namespace {
@@ -24,8 +29,9 @@ namespace {
 namespace fs = std::filesystem;
 
 struct SimulateArgs {
-  std::string vi, output, json, truth, plot, dynamic = "none", data;
+  std::string vi, output, json, truth, plot, dynamic = "none", data, images;
   std::uint64_t seed = 1;
+  int threads = 0;
   double duration = 0.0, knot_spacing = 0.1;
 };
 
@@ -106,14 +112,62 @@ void write_plot(const VisualInertialSim& sim, const std::string& path) {
   write_file_atomically(path, svg.str(), "plot");
 }
 
+// Renders every frame of the run into an EuRoC/ASL folder, with a progress line; returns the
+// rendering time per frame [ms] (without PNG writing) and the total time [s].
+std::pair<double, double> render_images(const VisualInertialSim& sim, const BSplineTrajectory& spline,
+                                        const VisualInertialSimOptions& opt, const SimSource& src, int threads,
+                                        ImageSequenceWriter* writer) {
+  const Stopwatch clock;
+  const RenderedScene scene = build_rendered_scene(sim, spline, opt);
+  ImageRendererOptions ro;
+  ro.seed = opt.seed;
+  ro.mask_radius_px = src.mask_radius;
+  const ImageRenderer renderer(scene, *sim.camera, ro);
+  const ThreadPool pool(threads);
+  std::cerr << "simulate: rendering " << sim.frames.size() << " frames (" << renderer.width() << "x" << renderer.height()
+            << ", " << scene.furniture.size() << " furniture boxes, " << scene.walkers.size() << " walkers, "
+            << pool.threads() << " threads) into " << writer->root() << "\n";
+  GrayImage image, labels;
+  double render_seconds = 0.0;
+  for (std::size_t k = 0; k < sim.frames.size(); ++k) {
+    const SimFrame& f = sim.frames[k];
+    const Stopwatch frame_clock;
+    renderer.render(f.t, frame_camera_pose(sim, f), &image, &labels, &pool);
+    render_seconds += frame_clock.seconds();
+    writer->add_frame(f.t, image, &labels);
+    if (k % 20 == 0 || k + 1 == sim.frames.size()) {
+      const double done = static_cast<double>(k + 1) / sim.frames.size();
+      const int bar = static_cast<int>(30 * done);
+      std::cerr << "\r  [" << std::string(bar, '#') << std::string(30 - bar, '.') << "] " << (k + 1) << "/"
+                << sim.frames.size() << std::fixed << std::setprecision(1) << "  " << 1e3 * render_seconds / (k + 1)
+                << " ms/frame render, ETA " << clock.seconds() / done * (1 - done) << " s   " << std::flush;
+    }
+  }
+  std::cerr << "\n";
+  writer->write_imu(sim.imu);
+  writer->write_groundtruth(sim.imu_truth);
+  writer->write_objects(scene);
+  writer->finish();
+  namespace fs = std::filesystem;
+  fs::copy_file(src.camchain, fs::path(writer->root()) / "camchain.yaml", fs::copy_options::overwrite_existing);
+  fs::copy_file(src.imu, fs::path(writer->root()) / "imu.yaml", fs::copy_options::overwrite_existing);
+  Trajectory truth;
+  for (const SimFrame& f : sim.frames) truth.push_back_ns(stamp_ns(f.t), SE3(SO3(f.truth.q_world_imu), f.truth.p_world));
+  write_trajectory((fs::path(writer->root()) / "groundtruth.tum").string(), truth, TrajectoryFormat::kTum);
+  return {sim.frames.empty() ? 0.0 : 1e3 * render_seconds / sim.frames.size(), clock.seconds()};
+}
+
 void run(const SimulateArgs& a) {
   check_outputs({{&a.output, "-o"}, {&a.json, "--json"}, {&a.truth, "--truth"}, {&a.plot, "--plot"}});
+  if (a.output.empty() && a.images.empty()) throw InputError("", 0, "output", "give -o FILE, --images DIR or both");
   const Stopwatch clock;
   VisualInertialSimOptions opt;
   opt.seed = a.seed;
   opt.dynamic = parse_dynamic_level(a.dynamic);
   opt.duration = a.duration;
   const SimSource src = resolve(a.vi, data_root(a.data));
+  std::unique_ptr<ImageSequenceWriter> writer;
+  if (!a.images.empty()) writer = std::make_unique<ImageSequenceWriter>(a.images);  // fails before any work
   const CameraCalibration cam = read_kalibr_camchain(src.camchain.string()).at(0);
   const ImuCalibration imu = read_kalibr_imu(src.imu.string());
   opt.imu_noise = ImuNoiseDensities{imu.gyroscope_noise_density, imu.gyroscope_random_walk,
@@ -132,7 +186,9 @@ void run(const SimulateArgs& a) {
   VisualInertialSim sim = simulate_visual_inertial(spline, cam.model, cam.T_cam_imu, opt);
   sim.source = a.vi;
   const SimSummary s = summarize(sim);
-  write_visual_inertial_sim(a.output, sim);
+  if (!a.output.empty()) write_visual_inertial_sim(a.output, sim);
+  std::pair<double, double> render_time{0.0, 0.0};
+  if (writer) render_time = render_images(sim, spline, opt, src, a.threads, writer.get());
   if (!a.truth.empty()) {
     Trajectory truth;
     for (const SimFrame& f : sim.frames) {
@@ -146,7 +202,7 @@ void run(const SimulateArgs& a) {
   if (!a.plot.empty()) write_plot(sim, a.plot);
   const double seconds = clock.seconds();
   std::cout << std::fixed << std::setprecision(3) << "simulated " << a.vi << " (dynamic " << a.dynamic << ", seed " << a.seed
-            << ") -> " << a.output << "\n"
+            << ") -> " << (a.output.empty() ? a.images : a.output) << "\n"
             << "  duration          " << s.duration << " s, " << s.frames << " frames (20 Hz), " << s.imu_samples
             << " IMU samples\n"
             << "  features/frame    mean " << std::setprecision(1) << s.features_per_frame_mean << ", min "
@@ -160,6 +216,9 @@ void run(const SimulateArgs& a) {
             << "  spline fit        RMSE " << 1e3 * fit.position_rmse << " mm (max " << 1e3 * fit.position_max << "), "
             << fit.rotation_rmse * 180 / M_PI << " deg (max " << fit.rotation_max * 180 / M_PI << ")\n"
             << "  time              " << seconds << " s\n";
+  if (writer)
+    std::cout << std::setprecision(1) << "  images            " << s.frames << " frames in " << a.images << " (mav0/cam0, labels0), "
+              << render_time.first << " ms/frame rendering, " << render_time.second << " s with PNG writing\n";
   if (!a.json.empty()) {
     nlohmann::json j;
     j["kind"] = "simulate";
@@ -188,6 +247,9 @@ void run(const SimulateArgs& a) {
                        {"position_max_m", fit.position_max}, {"rotation_rmse_deg", fit.rotation_rmse * 180 / M_PI},
                        {"rotation_max_deg", fit.rotation_max * 180 / M_PI}};
     j["time_s"] = seconds;
+    if (writer)
+      j["images"] = {{"dir", a.images}, {"frames", s.frames}, {"render_ms_per_frame", render_time.first},
+                     {"total_s", render_time.second}, {"threads", a.threads}};
     write_json(a.json, j);
   }
 }
@@ -203,7 +265,9 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--dynamic", args->dynamic, "moving groups: none, low or high")
       ->check(CLI::IsMember({"none", "low", "high"}))
       ->capture_default_str();
-  cmd->add_option("-o,--output", args->output, "simulation file to write (docs/formats.md)")->required();
+  cmd->add_option("-o,--output", args->output, "simulation file to write (docs/formats.md)");
+  cmd->add_option("--images", args->images, "render grayscale images and labels into this folder (EuRoC/ASL layout)");
+  cmd->add_option("--threads", args->threads, "rendering threads (0: all cores)")->capture_default_str();
   cmd->add_option("--json", args->json, "summary as JSON");
   cmd->add_option("--truth", args->truth, "true IMU poses at the camera times (TUM)");
   cmd->add_option("--plot", args->plot, "top view of the room (SVG)");
