@@ -91,6 +91,28 @@ TrackingResult FeatureTracker::track(const GrayImage& frame) {
     std::vector<float> err;
     const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, o.klt_max_iterations, o.klt_epsilon);
     cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, p1, status, err, window, o.klt_pyramid_levels, term);
+    // Large motion: KLT started at zero flow may lock onto a repeated texture motif. Track again
+    // from the median flow and keep, per feature, the candidate with the lower patch residual.
+    if (o.median_flow_retry_px > 0.0) {
+      std::vector<float> fx, fy;
+      for (std::size_t i = 0; i < p0.size(); ++i)
+        if (status[i]) fx.push_back(p1[i].x - p0[i].x), fy.push_back(p1[i].y - p0[i].y);
+      if (!fx.empty()) {
+        std::nth_element(fx.begin(), fx.begin() + fx.size() / 2, fx.end());
+        std::nth_element(fy.begin(), fy.begin() + fy.size() / 2, fy.end());
+        const cv::Point2f median(fx[fx.size() / 2], fy[fy.size() / 2]);
+        if (cv::norm(median) > o.median_flow_retry_px) {
+          std::vector<cv::Point2f> q1(p0.size());
+          for (std::size_t i = 0; i < p0.size(); ++i) q1[i] = p0[i] + median;
+          std::vector<uchar> status2;
+          std::vector<float> err2;
+          cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, q1, status2, err2, window, o.klt_pyramid_levels, term,
+                                   cv::OPTFLOW_USE_INITIAL_FLOW);
+          for (std::size_t i = 0; i < p0.size(); ++i)
+            if (status2[i] && (!status[i] || err2[i] < err[i])) p1[i] = q1[i], status[i] = 1, err[i] = err2[i];
+        }
+      }
+    }
     const bool fb = o.forward_backward_px > 0.0;
     if (fb) {
       p0_back = p0;  // initial guess: where the feature started

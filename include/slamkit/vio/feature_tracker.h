@@ -5,7 +5,9 @@
 //   refine   cornerSubPix on the new corners
 //   track    pyramidal Lucas-Kanade (calcOpticalFlowPyrLK) from the previous frame, then back
 //            again: a track survives if |p_prev − KLT⁻¹(KLT(p_prev))| ≤ forward_backward_px and
-//            its new position lies at least border_px inside the image
+//            its new position lies at least border_px inside the image; under large motion
+//            (median flow > median_flow_retry_px) KLT runs a second time from the median flow and
+//            each feature keeps the candidate with the lower photometric residual
 //   refill   each frame, new corners are detected until max_features are tracked.
 // Every feature keeps its id (increasing from 0, never reused) while it is tracked.
 #pragma once
@@ -31,6 +33,9 @@ struct FeatureTrackerOptions {
   int klt_max_iterations = 30;
   double klt_epsilon = 0.01;
   double forward_backward_px = 1.0;  ///< forward-backward check; ≤ 0 disables it
+  /// If the median KLT flow exceeds this, track again from the median flow and keep the result
+  /// with the lower patch residual (repeated textures under large motion); ≤ 0 disables it.
+  double median_flow_retry_px = 8.0;
   double border_px = 1.0;         ///< tracks closer than this to the image border are dropped
 };
 
