@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
+#include <cstdlib>  // getloadavg
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <time.h>
+#include <unistd.h>
 
 #include "slamkit/geometry/camera_models.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
@@ -24,7 +26,7 @@ using namespace slamkit;
 namespace {
 
 struct Timing {
-  std::vector<double> track_ms, classify_ms;
+  std::vector<double> track_ms, classify_ms, cpu_ms;  // wall clock; process CPU time of both steps
   double mean_features = 0;
   nlohmann::json json() const {
     auto stats = [](std::vector<double> v) {
@@ -36,9 +38,15 @@ struct Timing {
     std::vector<double> total(track_ms.size());
     for (std::size_t i = 0; i < total.size(); ++i) total[i] = track_ms[i] + classify_ms[i];
     return {{"frames", track_ms.size()}, {"tracking_ms", stats(track_ms)}, {"classification_ms", stats(classify_ms)},
-            {"total_ms", stats(total)}, {"features_per_frame", mean_features}};
+            {"total_ms", stats(total)}, {"total_cpu_ms", stats(cpu_ms)}, {"features_per_frame", mean_features}};
   }
 };
+
+double cpu_ms() {  // all threads of the process (OpenCV may use a pool)
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
 
 double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -49,15 +57,15 @@ Timing run(const std::vector<GrayImage>& frames, std::shared_ptr<const CameraMod
   DynamicFeatureFilter filter({}, camera);
   Timing t;
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    const double t0 = now_ms();
+    const double c0 = cpu_ms(), t0 = now_ms();
     const TrackingResult r = tracker.track(frames[k]);
     const double t1 = now_ms();
     std::vector<Eigen::Vector2d> a, b;
     r.matches(&a, &b);
     const Classification c = filter.classify(a, b);
-    const double t2 = now_ms();
+    const double t2 = now_ms(), c2 = cpu_ms();
     if (k == 0) continue;  // the first frame only detects
-    t.track_ms.push_back(t1 - t0), t.classify_ms.push_back(t2 - t1);
+    t.track_ms.push_back(t1 - t0), t.classify_ms.push_back(t2 - t1), t.cpu_ms.push_back(c2 - c0);
     t.mean_features += double(r.features.size()) / (frames.size() - 1);
     (void)c;
   }
@@ -105,7 +113,10 @@ int main(int argc, char** argv) {
       "equidistant", {190.978, 190.973, 254.932, 256.897, 0.00348239, 0.000715035, -0.00205324, 0.000202937}, 512, 512);
   nlohmann::json j;
   j["description"] = "DVI front end per 512x512 frame: tracking (goodFeaturesToTrack + cornerSubPix + KLT forward/backward) "
-                     "+ classification (undistortion + F RANSAC + epipolar distance); 150 features; 1 thread";
+                     "+ classification (undistortion + F RANSAC + epipolar distance); 150 features; one calling thread (OpenCV may use its pool; total_cpu_ms counts all threads)";
+  double load[1] = {0};
+  if (getloadavg(load, 1) == 1) j["load_average_1min"] = load[0];
+  j["cores"] = sysconf(_SC_NPROCESSORS_ONLN);
   j["synthetic"] = run(synthetic_frames(200), fisheye).json();
   std::printf("synthetic 512x512: %s\n", j["synthetic"].dump().c_str());
   const char* env = std::getenv("SLAMKIT_DATA");
