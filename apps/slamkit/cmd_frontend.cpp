@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -135,7 +136,8 @@ void run_frontend(const FrontendCliOptions& o) {
   j["camera"] = camera ? camera->model_name() : "none";
   j["options"] = {{"max_features", o.tracker.max_features}, {"min_distance_px", o.tracker.min_distance_px},
                   {"forward_backward_px", o.tracker.forward_backward_px}, {"klt_window", o.tracker.klt_window},
-                  {"klt_pyramid_levels", o.tracker.klt_pyramid_levels}, {"threshold_px", o.filter.threshold_px},
+                  {"klt_pyramid_levels", o.tracker.klt_pyramid_levels}, {"grid", o.tracker.grid_cols},
+                  {"threshold_px", o.filter.threshold_px},
                   {"ransac_threshold_px", o.filter.ransac_threshold_px},
                   {"static_camera_flow_px", o.filter.static_camera_flow_px}};
   j["frames"] = k;
@@ -177,7 +179,7 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--min-distance", o->tracker.min_distance_px, "minimum distance between features (px)")
       ->check(CLI::Range(0.0, 1000.0))->capture_default_str();
   sub->add_option("--grid", o->tracker.grid_cols, "detect on an NxN grid (0: whole image)")->check(CLI::Range(0, 32))
-      ->each([o](const std::string&) { o->tracker.grid_rows = o->tracker.grid_cols; });
+      ->each([o](const std::string& n) { o->tracker.grid_rows = std::stoi(n); });
   sub->add_option("--pyramid-levels", o->tracker.klt_pyramid_levels, "KLT pyramid levels")->check(CLI::Range(0, 8))
       ->capture_default_str();
   sub->add_option("--klt-window", o->tracker.klt_window, "KLT window side (px)")->check(CLI::Range(3, 101))
