@@ -137,6 +137,7 @@ void run_frontend(const FrontendCliOptions& o) {
   j["options"] = {{"max_features", o.tracker.max_features}, {"min_distance_px", o.tracker.min_distance_px},
                   {"forward_backward_px", o.tracker.forward_backward_px}, {"klt_window", o.tracker.klt_window},
                   {"klt_pyramid_levels", o.tracker.klt_pyramid_levels}, {"grid", o.tracker.grid_cols},
+                  {"max_residual_ratio", o.tracker.max_residual_ratio},
                   {"threshold_px", o.filter.threshold_px},
                   {"ransac_threshold_px", o.filter.ransac_threshold_px},
                   {"static_camera_flow_px", o.filter.static_camera_flow_px}};
@@ -186,6 +187,9 @@ void add_frontend_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--fb-threshold", o->tracker.forward_backward_px, "forward-backward check (px; 0: off)")
       ->check(CLI::Range(0.0, 100.0))->capture_default_str();
+  sub->add_option("--max-residual-ratio", o->tracker.max_residual_ratio,
+                  "drop tracks whose KLT residual exceeds this x the median (0: off)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
   sub->add_option("--threshold", o->filter.threshold_px, "epipolar distance above which a feature is dynamic (px)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--ransac-threshold", o->filter.ransac_threshold_px, "RANSAC inlier distance (px)")

@@ -3,6 +3,7 @@
 #include "slamkit/vio/feature_tracker.h"
 
 #include <algorithm>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <stdexcept>
@@ -119,9 +120,19 @@ TrackingResult FeatureTracker::track(const GrayImage& frame) {
       cv::calcOpticalFlowPyrLK(pyramid, s.prev_pyramid, p1, p0_back, status_back, err, window, o.klt_pyramid_levels,
                                term, cv::OPTFLOW_USE_INITIAL_FLOW);
     }
+    float err_limit = std::numeric_limits<float>::infinity();
+    if (o.max_residual_ratio > 0.0) {  // photometric residual above ratio × the median ⇒ lost
+      std::vector<float> e;
+      for (std::size_t i = 0; i < p0.size(); ++i)
+        if (status[i]) e.push_back(err[i]);
+      if (!e.empty()) {
+        std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+        err_limit = float(o.max_residual_ratio) * e[e.size() / 2];
+      }
+    }
     std::vector<TrackedFeature> kept;
     for (std::size_t i = 0; i < p0.size(); ++i) {
-      if (!status[i]) { ++r.lost_klt; continue; }
+      if (!status[i] || err[i] > err_limit) { ++r.lost_klt; continue; }
       if (fb && (!status_back[i] || cv::norm(p0[i] - p0_back[i]) > o.forward_backward_px)) {
         ++r.lost_forward_backward;
         continue;

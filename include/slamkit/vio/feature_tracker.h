@@ -36,6 +36,10 @@ struct FeatureTrackerOptions {
   /// If the median KLT flow exceeds this, track again from the median flow and keep the result
   /// with the lower patch residual (repeated textures under large motion); ≤ 0 disables it.
   double median_flow_retry_px = 8.0;
+  /// > 0: a track whose KLT photometric residual exceeds this × the frame's median residual is
+  /// lost (counted in lost_klt). Off by default: it removes KLT mismatches on rigid scenes but
+  /// also the tracks on deforming movers (docs/frontend.md).
+  double max_residual_ratio = 0.0;
   double border_px = 1.0;         ///< tracks closer than this to the image border are dropped
 };
 
