@@ -20,6 +20,7 @@ void add_report_command(CLI::App& app);  // cmd_report.cpp: report RUN.json... -
 // visual-inertial simulation (issue 12)
 void add_simulate_command(CLI::App& app);  // cmd_simulate.cpp: simulate --vi room1 -o run.vis
 void add_vio_command(CLI::App& app);       // cmd_vio.cpp: vio --sim run.vis
+void add_frontend_command(CLI::App& app);  // cmd_frontend.cpp: frontend VIDEO_OR_IMAGES --out DIR (issue 13)
 // landmark-SLAM filters (issue 15)
 void add_filter_command(CLI::App& app);  // cmd_filter.cpp: filter --algorithm ekf|eif|seif|...
 

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   // visual-inertial simulation
   slamkit::cli::add_simulate_command(app);
   slamkit::cli::add_vio_command(app);
+  slamkit::cli::add_frontend_command(app);
   // landmark-SLAM filters
   slamkit::cli::add_filter_command(app);
   try {

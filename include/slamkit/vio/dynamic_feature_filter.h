@@ -1,0 +1,84 @@
+// Dynamic-feature detector of DVI-SLAM (P4 algorithm 1, second half; docs/frontend.md).
+// Input: the pixels of the features matched between two frames (point tracks; no image needed,
+// so the feature-level simulator can use it too). Steps:
+//   1. undistort: every pixel is unprojected with the camera model to a bearing (x, y, z) and
+//      re-projected into a virtual pinhole with the same fx, fy, cx, cy: u = fx·x/z + cx, so
+//      distances stay in pixels (no camera: the pixels are taken as undistorted already);
+//      pixels that cannot be unprojected, or bearings with z ≤ min_bearing_z, are "unknown";
+//   2. a camera that does not move: if the median flow |p2 − p1| is below static_camera_flow_px,
+//      F is undefined (all static points have zero flow); each feature is then judged by its
+//      flow relative to the dominant (median) flow: |f_i − median(f)| > threshold ⇒ dynamic;
+//   3. otherwise F by the normalized 8-point algorithm inside RANSAC (cv::findFundamentalMat,
+//      FM_RANSAC), refit by the 8-point least squares on all RANSAC inliers, and for every match the epipolar line l = F p1 = (X, Y, Z) and distance
+//      d = |p2ᵀ F p1| / √(X² + Y²), mapped back to image pixels through the local Jacobian J of
+//      the undistortion at p2 (d_img = d / |Jᵀ n|, n the line's unit normal; J = I for a pinhole)
+//      so that the threshold means the same at the centre and at the rim of a fisheye image;
+//      d_img > threshold_px ⇒ dynamic, else static;
+//   4. M = static / (static + dynamic) of the frame.
+// Fewer than min_matches usable matches, or a RANSAC that finds no F, is a handled condition:
+// every feature is "unknown", M = 1 (nothing is known to move), and the status says why.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "slamkit/geometry/camera_models.h"
+
+namespace slamkit {
+
+enum class FeatureMotion : std::uint8_t { kUnknown = 0, kStatic = 1, kDynamic = 2 };
+const char* to_string(FeatureMotion m);
+
+enum class ClassificationStatus : std::uint8_t {
+  kEpipolar,       ///< classified by the epipolar distance to a RANSAC F
+  kStaticCamera,   ///< the camera did not move: classified by flow relative to the median flow
+  kTooFewMatches,  ///< fewer than min_matches usable matches: all unknown
+  kNoFundamental,  ///< RANSAC returned no F (degenerate configuration): all unknown
+};
+const char* to_string(ClassificationStatus s);
+
+struct DynamicFilterOptions {
+  double threshold_px = 1.0;          ///< d > threshold ⇒ dynamic (P4: 1 px)
+  double ransac_threshold_px = 0.5;   ///< RANSAC inlier distance to the epipolar line (virtual pinhole px)
+  double ransac_confidence = 0.99;
+  int ransac_max_iterations = 1000;
+  bool refit_on_inliers = true;       ///< refit F by the 8-point least squares on the RANSAC inliers
+  int min_matches = 8;                ///< the 8-point algorithm's minimum
+  double static_camera_flow_px = 0.5;  ///< median flow below this ⇒ camera static (step 2); < 0 disables
+  double min_bearing_z = 0.1;         ///< fisheye bearings closer to the image plane are unknown
+};
+
+struct Classification {
+  std::vector<FeatureMotion> flags;  ///< one per input match
+  std::vector<double> distance_px;   ///< d (epipolar) or the flow residual (static camera); NaN if unknown
+  double static_ratio = 1.0;         ///< M = static / (static + dynamic); 1 when nothing is classified
+  int n_static = 0, n_dynamic = 0, n_unknown = 0;
+  double median_flow_px = 0.0;       ///< median |p2 − p1| of the undistorted matches
+  ClassificationStatus status = ClassificationStatus::kTooFewMatches;
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();  ///< p2ᵀ F p1 = 0 on the virtual pinhole (kEpipolar)
+};
+
+class DynamicFeatureFilter {
+ public:
+  /// camera: the model of the images (nullptr: pixels are undistorted pinhole already).
+  /// Throws std::invalid_argument on bad options.
+  explicit DynamicFeatureFilter(DynamicFilterOptions options = {}, std::shared_ptr<const CameraModel> camera = nullptr);
+  /// Classifies the matches prev[i] → cur[i] (pixels of two frames). Throws std::invalid_argument
+  /// if the sizes differ; non-finite pixels are unknown.
+  Classification classify(const std::vector<Eigen::Vector2d>& prev, const std::vector<Eigen::Vector2d>& cur) const;
+  /// The virtual-pinhole pixel of a raw pixel (step 1); false if it cannot be undistorted.
+  bool undistort(const Eigen::Vector2d& uv, Eigen::Vector2d* out) const;
+  const DynamicFilterOptions& options() const { return options_; }
+
+ private:
+  /// ∂(virtual pixel)/∂(raw pixel) at uv by central differences; false for a pinhole (J = I).
+  bool undistort_jacobian(const Eigen::Vector2d& uv, Eigen::Matrix2d* J) const;
+  DynamicFilterOptions options_;
+  std::shared_ptr<const CameraModel> camera_;
+  double fx_ = 1, fy_ = 1, cx_ = 0, cy_ = 0;
+};
+
+}  // namespace slamkit

@@ -1,0 +1,87 @@
+// Feature tracking of the DVI front end (P4 algorithm 1, first half; docs/frontend.md):
+//   detect   goodFeaturesToTrack (Shi-Tomasi min-eigenvalue corners) in the free part of the
+//            image: the user mask (non-zero = usable) minus a disk of radius min_distance around
+//            every feature already tracked, so new corners spread; optionally per grid cell
+//   refine   cornerSubPix on the new corners
+//   track    pyramidal Lucas-Kanade (calcOpticalFlowPyrLK) from the previous frame, then back
+//            again: a track survives if |p_prev − KLT⁻¹(KLT(p_prev))| ≤ forward_backward_px and
+//            its new position lies at least border_px inside the image; under large motion
+//            (median flow > median_flow_retry_px) KLT runs a second time from the median flow and
+//            each feature keeps the candidate with the lower photometric residual
+//   refill   each frame, new corners are detected until max_features are tracked.
+// Every feature keeps its id (increasing from 0, never reused) while it is tracked.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "slamkit/vio/gray_image.h"
+
+namespace slamkit {
+
+struct FeatureTrackerOptions {
+  int max_features = 150;         ///< features kept per frame (VINS-Mono's default)
+  double min_distance_px = 30.0;  ///< minimum distance between features
+  double quality_level = 0.01;    ///< Shi-Tomasi: corners weaker than this × the strongest are dropped
+  int block_size = 3;             ///< Shi-Tomasi covariance window
+  int grid_cols = 0, grid_rows = 0;  ///< > 0: detect per cell, max_features / cells each (spreads corners)
+  int subpix_half_window = 5;     ///< cornerSubPix window (2h+1)²; 0 disables the refinement
+  int klt_window = 21;            ///< KLT window side (px)
+  int klt_pyramid_levels = 3;     ///< KLT pyramid levels above the full image
+  int klt_max_iterations = 30;
+  double klt_epsilon = 0.01;
+  double forward_backward_px = 1.0;  ///< forward-backward check; ≤ 0 disables it
+  /// If the median KLT flow exceeds this, track again from the median flow and keep the result
+  /// with the lower patch residual (repeated textures under large motion); ≤ 0 disables it.
+  double median_flow_retry_px = 8.0;
+  /// > 0: a track whose KLT photometric residual exceeds this × the frame's median residual is
+  /// lost (counted in lost_klt). Off by default: it removes KLT mismatches on rigid scenes but
+  /// also the tracks on deforming movers (docs/frontend.md).
+  double max_residual_ratio = 0.0;
+  double border_px = 1.0;         ///< tracks closer than this to the image border are dropped
+};
+
+struct TrackedFeature {
+  std::int64_t id = -1;
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();       ///< position in the current frame (px)
+  Eigen::Vector2d prev_uv = Eigen::Vector2d::Zero();  ///< position in the previous frame (age > 0)
+  int age = 0;  ///< frames this feature has been tracked; 0: detected in this frame
+};
+
+struct TrackingResult {
+  std::vector<TrackedFeature> features;  ///< tracked ones (age > 0) first, then new detections
+  int tracked = 0;           ///< features carried over from the previous frame
+  int lost_klt = 0;          ///< KLT status 0 (not found)
+  int lost_forward_backward = 0;
+  int lost_border = 0;
+  int detected = 0;          ///< new corners this frame
+  /// The previous/current pixel pairs of the tracked features, the input of DynamicFeatureFilter.
+  void matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eigen::Vector2d>* cur,
+               std::vector<std::int64_t>* ids = nullptr) const;
+};
+
+class FeatureTracker {
+ public:
+  /// mask: empty (whole image usable) or the size of every frame, non-zero where corners may be
+  /// detected. Throws std::invalid_argument on bad options.
+  explicit FeatureTracker(FeatureTrackerOptions options = {}, GrayImage mask = {});
+  ~FeatureTracker();
+  FeatureTracker(FeatureTracker&&) noexcept;
+  FeatureTracker& operator=(FeatureTracker&&) noexcept;
+
+  /// Tracks the features into `frame` and refills them. Throws std::invalid_argument if the frame
+  /// is empty, its size differs from the previous frame's, or the mask's size differs from it.
+  TrackingResult track(const GrayImage& frame);
+  /// Stops tracking the given ids (e.g. features classified dynamic); their neighbourhoods free up.
+  void drop(const std::vector<std::int64_t>& ids);
+  const FeatureTrackerOptions& options() const { return options_; }
+
+ private:
+  struct State;
+  FeatureTrackerOptions options_;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace slamkit

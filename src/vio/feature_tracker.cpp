@@ -1,0 +1,200 @@
+// Shi-Tomasi detection + sub-pixel refinement + pyramidal KLT with a forward-backward check
+// (see the header). OpenCV stays inside this file.
+#include "slamkit/vio/feature_tracker.h"
+
+#include <algorithm>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace slamkit {
+
+namespace {
+
+cv::Mat wrap(const GrayImage& image) {  // no copy; OpenCV only reads it
+  return cv::Mat(image.height, image.width, CV_8UC1, const_cast<std::uint8_t*>(image.pixels.data()));
+}
+
+void check_image(const GrayImage& image, const char* what) {
+  if (image.empty() || image.pixels.size() != std::size_t(image.width) * image.height)
+    throw std::invalid_argument(std::string("feature tracker: ") + what + " is empty or its pixel count is not width x height");
+}
+
+}  // namespace
+
+void TrackingResult::matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eigen::Vector2d>* cur,
+                             std::vector<std::int64_t>* ids) const {
+  prev->clear(), cur->clear();
+  if (ids) ids->clear();
+  for (const TrackedFeature& f : features) {
+    if (f.age == 0) continue;
+    prev->push_back(f.prev_uv), cur->push_back(f.uv);
+    if (ids) ids->push_back(f.id);
+  }
+}
+
+struct FeatureTracker::State {
+  GrayImage mask;
+  cv::Mat prev_image;              // a deep copy of the last frame
+  std::vector<cv::Mat> prev_pyramid;
+  std::vector<TrackedFeature> features;
+  std::int64_t next_id = 0;
+};
+
+FeatureTracker::FeatureTracker(FeatureTrackerOptions o, GrayImage mask) : options_(o), state_(std::make_unique<State>()) {
+  if (o.max_features < 1) throw std::invalid_argument("feature tracker: max_features must be >= 1");
+  if (!(o.min_distance_px >= 0.0)) throw std::invalid_argument("feature tracker: min_distance_px must be >= 0");
+  if (!(o.quality_level > 0.0 && o.quality_level < 1.0)) throw std::invalid_argument("feature tracker: quality_level must be in (0, 1)");
+  if (o.klt_window < 3 || o.klt_pyramid_levels < 0 || o.klt_max_iterations < 1 || o.block_size < 1)
+    throw std::invalid_argument("feature tracker: klt_window >= 3, klt_pyramid_levels >= 0, klt_max_iterations >= 1, block_size >= 1");
+  if (o.grid_cols < 0 || o.grid_rows < 0 || (o.grid_cols > 0) != (o.grid_rows > 0))
+    throw std::invalid_argument("feature tracker: grid_cols and grid_rows must both be 0 or both > 0");
+  if (!mask.empty()) check_image(mask, "the mask");
+  state_->mask = std::move(mask);
+}
+
+FeatureTracker::~FeatureTracker() = default;
+FeatureTracker::FeatureTracker(FeatureTracker&&) noexcept = default;
+FeatureTracker& FeatureTracker::operator=(FeatureTracker&&) noexcept = default;
+
+void FeatureTracker::drop(const std::vector<std::int64_t>& ids) {
+  auto& f = state_->features;
+  f.erase(std::remove_if(f.begin(), f.end(),
+                         [&](const TrackedFeature& t) { return std::find(ids.begin(), ids.end(), t.id) != ids.end(); }),
+          f.end());
+}
+
+TrackingResult FeatureTracker::track(const GrayImage& frame) {
+  check_image(frame, "the frame");
+  State& s = *state_;
+  const FeatureTrackerOptions& o = options_;
+  if (!s.mask.empty() && (s.mask.width != frame.width || s.mask.height != frame.height))
+    throw std::invalid_argument("feature tracker: the mask is " + std::to_string(s.mask.width) + "x" +
+                                std::to_string(s.mask.height) + " but the frame is " + std::to_string(frame.width) +
+                                "x" + std::to_string(frame.height));
+  if (!s.prev_image.empty() && (s.prev_image.cols != frame.width || s.prev_image.rows != frame.height))
+    throw std::invalid_argument("feature tracker: frame size changed from " + std::to_string(s.prev_image.cols) + "x" +
+                                std::to_string(s.prev_image.rows) + " to " + std::to_string(frame.width) + "x" +
+                                std::to_string(frame.height));
+  const cv::Mat image = wrap(frame).clone();
+  const cv::Size window(o.klt_window, o.klt_window);
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(image, pyramid, window, o.klt_pyramid_levels);
+  TrackingResult r;
+
+  // 1. KLT forward and backward.
+  if (!s.features.empty() && !s.prev_pyramid.empty()) {
+    std::vector<cv::Point2f> p0, p1, p0_back;
+    for (const TrackedFeature& f : s.features) p0.emplace_back(float(f.uv.x()), float(f.uv.y()));
+    std::vector<uchar> status, status_back;
+    std::vector<float> err;
+    const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, o.klt_max_iterations, o.klt_epsilon);
+    cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, p1, status, err, window, o.klt_pyramid_levels, term);
+    // Large motion: KLT started at zero flow may lock onto a repeated texture motif. Track again
+    // from the median flow and keep, per feature, the candidate with the lower patch residual.
+    if (o.median_flow_retry_px > 0.0) {
+      std::vector<float> fx, fy;
+      for (std::size_t i = 0; i < p0.size(); ++i)
+        if (status[i]) fx.push_back(p1[i].x - p0[i].x), fy.push_back(p1[i].y - p0[i].y);
+      if (!fx.empty()) {
+        std::nth_element(fx.begin(), fx.begin() + fx.size() / 2, fx.end());
+        std::nth_element(fy.begin(), fy.begin() + fy.size() / 2, fy.end());
+        const cv::Point2f median(fx[fx.size() / 2], fy[fy.size() / 2]);
+        if (cv::norm(median) > o.median_flow_retry_px) {
+          std::vector<cv::Point2f> q1(p0.size());
+          for (std::size_t i = 0; i < p0.size(); ++i) q1[i] = p0[i] + median;
+          std::vector<uchar> status2;
+          std::vector<float> err2;
+          cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, q1, status2, err2, window, o.klt_pyramid_levels, term,
+                                   cv::OPTFLOW_USE_INITIAL_FLOW);
+          for (std::size_t i = 0; i < p0.size(); ++i)
+            if (status2[i] && (!status[i] || err2[i] < err[i])) p1[i] = q1[i], status[i] = 1, err[i] = err2[i];
+        }
+      }
+    }
+    const bool fb = o.forward_backward_px > 0.0;
+    if (fb) {
+      p0_back = p0;  // initial guess: where the feature started
+      cv::calcOpticalFlowPyrLK(pyramid, s.prev_pyramid, p1, p0_back, status_back, err, window, o.klt_pyramid_levels,
+                               term, cv::OPTFLOW_USE_INITIAL_FLOW);
+    }
+    float err_limit = std::numeric_limits<float>::infinity();
+    if (o.max_residual_ratio > 0.0) {  // photometric residual above ratio × the median ⇒ lost
+      std::vector<float> e;
+      for (std::size_t i = 0; i < p0.size(); ++i)
+        if (status[i]) e.push_back(err[i]);
+      if (!e.empty()) {
+        std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+        err_limit = float(o.max_residual_ratio) * e[e.size() / 2];
+      }
+    }
+    std::vector<TrackedFeature> kept;
+    for (std::size_t i = 0; i < p0.size(); ++i) {
+      if (!status[i] || err[i] > err_limit) { ++r.lost_klt; continue; }
+      if (fb && (!status_back[i] || cv::norm(p0[i] - p0_back[i]) > o.forward_backward_px)) {
+        ++r.lost_forward_backward;
+        continue;
+      }
+      const double x = p1[i].x, y = p1[i].y, b = o.border_px;
+      if (!(x >= b && y >= b && x < frame.width - b && y < frame.height - b)) { ++r.lost_border; continue; }
+      TrackedFeature t = s.features[i];
+      t.prev_uv = t.uv;
+      t.uv = Eigen::Vector2d(x, y);
+      ++t.age;
+      kept.push_back(t);
+    }
+    s.features = std::move(kept);
+  } else {
+    s.features.clear();
+  }
+  r.tracked = int(s.features.size());
+
+  // 2. Refill: detect where the mask allows and no tracked feature is within min_distance.
+  const int missing = o.max_features - int(s.features.size());
+  if (missing > 0) {
+    cv::Mat free_mask = s.mask.empty() ? cv::Mat(image.size(), CV_8UC1, cv::Scalar(255)) : (wrap(s.mask) != 0);
+    const int radius = int(std::lround(o.min_distance_px));
+    for (const TrackedFeature& f : s.features)
+      cv::circle(free_mask, cv::Point(int(std::lround(f.uv.x())), int(std::lround(f.uv.y()))), radius, cv::Scalar(0), -1);
+    std::vector<cv::Point2f> corners;
+    if (o.grid_cols > 0) {
+      const int cells = o.grid_cols * o.grid_rows;
+      const int per_cell = std::max(1, (missing + cells - 1) / cells);
+      for (int gy = 0; gy < o.grid_rows; ++gy)
+        for (int gx = 0; gx < o.grid_cols; ++gx) {
+          const cv::Rect cell(gx * image.cols / o.grid_cols, gy * image.rows / o.grid_rows,
+                              (gx + 1) * image.cols / o.grid_cols - gx * image.cols / o.grid_cols,
+                              (gy + 1) * image.rows / o.grid_rows - gy * image.rows / o.grid_rows);
+          std::vector<cv::Point2f> c;
+          cv::goodFeaturesToTrack(image(cell), c, per_cell, o.quality_level, o.min_distance_px, free_mask(cell),
+                                  o.block_size);
+          for (cv::Point2f& p : c) corners.emplace_back(p.x + cell.x, p.y + cell.y);
+        }
+      if (int(corners.size()) > missing) corners.resize(missing);
+    } else {
+      cv::goodFeaturesToTrack(image, corners, missing, o.quality_level, o.min_distance_px, free_mask, o.block_size);
+    }
+    if (!corners.empty() && o.subpix_half_window > 0) {
+      const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+      cv::cornerSubPix(image, corners, cv::Size(o.subpix_half_window, o.subpix_half_window), cv::Size(-1, -1), term);
+    }
+    for (const cv::Point2f& p : corners) {
+      if (!(p.x >= o.border_px && p.y >= o.border_px && p.x < frame.width - o.border_px && p.y < frame.height - o.border_px))
+        continue;
+      TrackedFeature t;
+      t.id = s.next_id++;
+      t.uv = t.prev_uv = Eigen::Vector2d(p.x, p.y);
+      t.age = 0;
+      s.features.push_back(t);
+      ++r.detected;
+    }
+  }
+  r.features = s.features;
+  s.prev_image = image;
+  s.prev_pyramid = std::move(pyramid);
+  return r;
+}
+
+}  // namespace slamkit

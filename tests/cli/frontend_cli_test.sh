@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# slamkit frontend through the binary on ../shared/datasets/vio/dynamic_video: the stereo pair
+# aloeL/aloeR (a rigid scene: few matched features flagged dynamic), a
+# short stretch of vtest.avi (PNG frames, the AVI, JSON keys, progress lines), and bad input:
+# an unreadable video, a mask of the wrong size, a blank image pair (fewer than 8 matches: a
+# reported, handled condition). Exit 77 (skipped) without the datasets, failure under CI=true.
+set -uo pipefail
+slamkit=$1
+data=${SLAMKIT_DATA:-$2/../shared/datasets}
+[[ $data = /* ]] || data=$2/$data  # a relative SLAMKIT_DATA is relative to the source tree
+video_dir=$data/vio/dynamic_video
+[[ -f "$video_dir/aloeL.jpg" ]] || { echo "SKIPPED: no datasets at $video_dir"; [[ "${CI:-}" == true ]] && exit 1; exit 77; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# 1. A rigid scene from two viewpoints. Issue 13 asks for at most 2% flagged dynamic; we measure
+#    14% (KLT mismatches on the repeated wallpaper and at the leaves' occlusion edges, see
+#    docs/frontend.md) with the defaults, so this guards the measured level against regressions.
+"$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe" --json "$work/aloe.json" \
+  >"$work/aloe.txt" 2>&1 || fail "frontend on aloe exited non-zero: $(cat "$work/aloe.txt")"
+[[ $(ls "$work/aloe"/*.png | wc -l) -eq 2 ]] || fail "expected 2 PNG frames for aloe"
+python3 - "$work/aloe.json" <<'PY' || fail "aloe: JSON wrong or too many dynamic features: $(cat "$work/aloe.txt")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["kind"] == "frontend" and j["frames"] == 2
+pair = j["per_frame"][1]
+matched = pair["static"] + pair["dynamic"]
+assert pair["status"] == "epipolar", pair["status"]
+assert matched >= 60, matched
+assert pair["dynamic"] <= 0.16 * matched, (pair["dynamic"], matched)
+print("aloe: %d matched, %d dynamic" % (matched, pair["dynamic"]))
+PY
+
+# 1b. With the KLT residual check (--max-residual-ratio 1.5, off by default because it also drops
+#     the tracks on deforming movers) the pair meets issue 13's figure: at most 2% dynamic.
+"$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe2" --json "$work/aloe2.json" \
+  --max-residual-ratio 1.5 --no-images >"$work/aloe2.txt" 2>&1 || fail "frontend on aloe with the residual check failed"
+python3 - "$work/aloe2.json" <<'PY' || fail "aloe with the residual check: more than 2% dynamic"
+import json, sys
+pair = json.load(open(sys.argv[1]))["per_frame"][1]
+matched = pair["static"] + pair["dynamic"]
+assert matched >= 60 and pair["dynamic"] <= 0.02 * matched, (pair["dynamic"], matched)
+PY
+
+# 2. vtest.avi (static camera, people walking): its first 25 frames, PNGs and the AVI.
+if [[ -f "$video_dir/vtest.avi" ]]; then
+  "$slamkit" frontend "$video_dir/vtest.avi" --out "$work/vtest" --json "$work/vtest.json" --max-frames 25 \
+    >"$work/vtest.txt" 2>&1 || fail "frontend on vtest exited non-zero: $(cat "$work/vtest.txt")"
+  grep -q "frame .*\[#" "$work/vtest.txt" || fail "no progress lines: $(head "$work/vtest.txt")"
+  [[ -s "$work/vtest/frontend.avi" ]] || fail "no AVI written"
+  [[ $(ls "$work/vtest"/*.png | wc -l) -eq 25 ]] || fail "expected 25 PNG frames"
+  python3 - "$work/vtest.json" <<'PY' || fail "vtest JSON lacks keys or classifies wrongly"
+import json, sys, math
+j = json.load(open(sys.argv[1]))
+for k in ["frames", "share_dynamic", "features_static", "features_dynamic", "frames_too_few_matches"]:
+    assert k in j, k
+assert j["frames"] == 25
+assert j["classification_status"].get("static_camera", 0) > 0.9 * (j["frames"] - 1), j["classification_status"]
+assert 0.0 < j["share_dynamic"] < 0.5, j["share_dynamic"]   # people walk through, most of the scene stands still
+assert 0.0 < j["static_ratio"]["min"] <= j["static_ratio"]["mean"] <= 1.0
+assert set(j["time_per_frame_ms"]) == {"mean", "max"} and math.isfinite(j["time_per_frame_ms"]["mean"])
+PY
+fi
+
+# 3. Bad input.
+printf 'not a video' >"$work/broken.avi"
+"$slamkit" frontend "$work/broken.avi" --out "$work/b" >"$work/e1.txt" 2>&1
+[[ $? -eq 1 ]] || fail "unreadable video did not exit 1: $(cat "$work/e1.txt")"
+grep -q "broken.avi" "$work/e1.txt" || fail "error does not name the video: $(cat "$work/e1.txt")"
+python3 -c "import sys; open(sys.argv[1],'wb').write(b'P5\n32 32\n255\n' + bytes([255])*1024)" "$work/mask.pgm"
+"$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/m" --mask "$work/mask.pgm" >"$work/e2.txt" 2>&1
+[[ $? -eq 1 ]] || fail "mask of the wrong size did not exit 1: $(cat "$work/e2.txt")"
+grep -q "mask.pgm.*32x32" "$work/e2.txt" || fail "mask error unclear: $(cat "$work/e2.txt")"
+calib=$data/vio/tumvi/calib/openvins_kalibr_imucam_chain.yaml
+if [[ -f "$calib" ]]; then  # a 512x512 TUM-VI calibration for 1282x1110 images
+  "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/c" --calib "$calib" >"$work/e4.txt" 2>&1
+  [[ $? -eq 1 ]] || fail "calibration of the wrong resolution did not exit 1: $(cat "$work/e4.txt")"
+  grep -q "openvins_kalibr_imucam_chain.yaml.*resolution" "$work/e4.txt" || fail "calibration error unclear: $(cat "$work/e4.txt")"
+fi
+"$slamkit" frontend "$work/missing.png" "$video_dir/aloeR.jpg" --out "$work/x" >"$work/e5.txt" 2>&1
+[[ $? -eq 1 ]] && grep -q "missing.png" "$work/e5.txt" || fail "missing image not reported: $(cat "$work/e5.txt")"
+python3 -c "import sys; open(sys.argv[1],'wb').write(b'P5\n64 64\n255\n' + bytes([90])*4096)" "$work/blank1.pgm"
+cp "$work/blank1.pgm" "$work/blank2.pgm"
+"$slamkit" frontend "$work/blank1.pgm" "$work/blank2.pgm" --out "$work/blank" --json "$work/blank.json" >"$work/e3.txt" 2>&1 \
+  || fail "blank pair failed instead of reporting: $(cat "$work/e3.txt")"
+grep -q "fewer than 8" "$work/e3.txt" || fail "too few matches not reported: $(cat "$work/e3.txt")"
+python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert j['frames_too_few_matches']==1 and j['per_frame'][1]['status']=='too_few_matches'" \
+  "$work/blank.json" || fail "blank pair JSON wrong"
+echo "frontend CLI ok"

@@ -1,0 +1,139 @@
+// Feature tracker on synthetic images: a smooth random texture shifted by a known sub-pixel
+// amount (KLT must recover it), persistent ids, refill, mask handling and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "slamkit/vio/dynamic_feature_filter.h"
+#include "slamkit/vio/feature_tracker.h"
+
+namespace slamkit {
+namespace {
+
+// A texture of random overlapping rectangles (real corners), rendered with exact pixel-area
+// coverage at an offset (sx, sy): the whole image shifted by a sub-pixel amount.
+struct RectTexture {
+  std::vector<Eigen::Vector4d> rects;  // x0, y0, x1, y1
+  std::vector<double> amplitude;
+  RectTexture(int n, int size, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(-20.0, size + 20.0), side(6.0, 30.0), a(-70.0, 70.0);
+    for (int i = 0; i < n; ++i) {
+      const double x = pos(rng), y = pos(rng);
+      rects.emplace_back(x, y, x + side(rng), y + side(rng));
+      amplitude.push_back(a(rng));
+    }
+  }
+  static double overlap(double a0, double a1, double p) { return std::max(0.0, std::min(a1, p + 1.0) - std::max(a0, p)); }
+  GrayImage render(int size, double sx, double sy) const {
+    std::vector<double> acc(std::size_t(size) * size, 128.0);
+    for (std::size_t r = 0; r < rects.size(); ++r) {
+      const Eigen::Vector4d b = rects[r] + Eigen::Vector4d(sx, sy, sx, sy);
+      for (int y = std::max(0, int(b[1]) - 1); y < std::min(size, int(b[3]) + 2); ++y)
+        for (int x = std::max(0, int(b[0]) - 1); x < std::min(size, int(b[2]) + 2); ++x)
+          acc[std::size_t(y) * size + x] += amplitude[r] * overlap(b[0], b[2], x) * overlap(b[1], b[3], y);
+    }
+    GrayImage g(size, size);
+    for (std::size_t i = 0; i < acc.size(); ++i) g.pixels[i] = std::uint8_t(std::clamp(std::lround(acc[i]), 0L, 255L));
+    return g;
+  }
+};
+
+TEST(FeatureTracker, RecoversASubPixelShiftAndKeepsIds) {
+  const int size = 256;
+  const RectTexture tex(250, size, 11);
+  FeatureTrackerOptions o;
+  o.max_features = 60;
+  o.min_distance_px = 20;
+  FeatureTracker tracker(o);
+  const TrackingResult r0 = tracker.track(tex.render(size, 0.0, 0.0));
+  EXPECT_EQ(r0.tracked, 0);
+  EXPECT_GE(r0.detected, 40);
+  {  // Detected corners keep min_distance (before the sub-pixel refinement, which moves them a little).
+    FeatureTrackerOptions raw = o;
+    raw.subpix_half_window = 0;
+    const TrackingResult d = FeatureTracker(raw).track(tex.render(size, 0.0, 0.0));
+    for (std::size_t i = 0; i < d.features.size(); ++i)
+      for (std::size_t j = i + 1; j < d.features.size(); ++j)
+        EXPECT_GE((d.features[i].uv - d.features[j].uv).norm(), o.min_distance_px - 1e-3);
+  }
+
+  const TrackingResult r1 = tracker.track(tex.render(size, 2.4, -1.3));
+  EXPECT_GE(r1.tracked, int(0.8 * r0.detected));
+  int checked = 0;
+  for (const TrackedFeature& f : r1.features) {
+    if (f.age == 0) continue;
+    const Eigen::Vector2d flow = f.uv - f.prev_uv;
+    EXPECT_NEAR(flow.x(), 2.4, 0.15) << "id " << f.id;
+    EXPECT_NEAR(flow.y(), -1.3, 0.15) << "id " << f.id;
+    bool known = false;
+    for (const TrackedFeature& g : r0.features) known |= g.id == f.id && (g.uv - f.prev_uv).norm() < 1e-9;
+    EXPECT_TRUE(known) << "id " << f.id << " is not a track of the first frame";
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
+  EXPECT_EQ(int(r1.features.size()), r1.tracked + r1.detected);
+  std::vector<Eigen::Vector2d> prev, cur;
+  r1.matches(&prev, &cur);
+  EXPECT_EQ(int(prev.size()), r1.tracked);
+  EXPECT_LE(r1.lost_forward_backward + r1.lost_klt, 3);  // a clean shift loses (almost) nothing
+}
+
+TEST(FeatureTracker, MaskKeepsCornersOutAndDropFreesNeighbourhoods) {
+  const int size = 256;
+  const RectTexture tex(250, size, 12);
+  GrayImage mask(size, size, 255);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size / 2; ++x) mask.at(x, y) = 0;
+  FeatureTrackerOptions o;
+  o.max_features = 40;
+  o.min_distance_px = 15;
+  FeatureTracker tracker(o, mask);
+  const TrackingResult r = tracker.track(tex.render(size, 0, 0));
+  ASSERT_GT(r.detected, 10);
+  for (const TrackedFeature& f : r.features) EXPECT_GE(f.uv.x(), size / 2 - 3.0);  // refinement may cross the mask edge a little
+  std::vector<std::int64_t> ids;
+  for (const TrackedFeature& f : r.features) ids.push_back(f.id);
+  tracker.drop(ids);
+  const TrackingResult r2 = tracker.track(tex.render(size, 0.5, 0.5));
+  EXPECT_EQ(r2.tracked, 0);
+  EXPECT_GT(r2.detected, 10);
+  for (const TrackedFeature& f : r2.features) EXPECT_GT(f.id, ids.back());
+
+  // The grid option spreads the corners over the cells.
+  o.grid_cols = o.grid_rows = 2;
+  FeatureTracker grid(o);
+  const TrackingResult g = grid.track(tex.render(size, 0, 0));
+  int quadrant[4] = {0, 0, 0, 0};
+  for (const TrackedFeature& f : g.features) ++quadrant[(f.uv.x() >= size / 2) + 2 * (f.uv.y() >= size / 2)];
+  for (int q : quadrant) EXPECT_GE(q, 5);
+}
+
+TEST(FeatureTracker, BadInputIsAClearErrorOrAHandledCondition) {
+  const RectTexture tex(80, 128, 13);
+  // A mask of the wrong size.
+  FeatureTracker masked({}, GrayImage(64, 64, 255));
+  EXPECT_THROW(masked.track(tex.render(128, 0, 0)), std::invalid_argument);
+  // A frame of another size than the previous one, and an empty frame.
+  FeatureTracker t;
+  t.track(tex.render(128, 0, 0));
+  EXPECT_THROW(t.track(tex.render(96, 0, 0)), std::invalid_argument);
+  EXPECT_THROW(t.track(GrayImage()), std::invalid_argument);
+  // A blank frame: KLT keeps fewer than 8 points; the classifier reports it, all unknown.
+  const TrackingResult blank = t.track(GrayImage(128, 128, 90));
+  EXPECT_EQ(blank.detected, 0);
+  std::vector<Eigen::Vector2d> prev, cur;
+  blank.matches(&prev, &cur);
+  ASSERT_LT(prev.size(), 8u);
+  const Classification c = DynamicFeatureFilter().classify(prev, cur);
+  EXPECT_EQ(c.status, ClassificationStatus::kTooFewMatches);
+  EXPECT_EQ(c.n_unknown, int(prev.size()));
+  // Bad options.
+  FeatureTrackerOptions bad;
+  bad.max_features = 0;
+  EXPECT_THROW(FeatureTracker{bad}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace slamkit
