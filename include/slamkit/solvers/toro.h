@@ -19,6 +19,7 @@ namespace slamkit {
 
 struct ToroOptions {
   RelaxerStop stop;
+  RelaxerGradientPhase gradient_phase;  ///< 2D: the unbiased second phase (relaxer.h)
 };
 
 /// Optimizes the poses of `g` in place. Throws InputError for graphs the relaxers cannot take.
