@@ -194,7 +194,8 @@ void TreeRelaxation::preconditioner_2d(int iteration) {
       for (int k = x.a; parent_[k] >= 0; k = parent_[k]) m2_[k].z() += q;
     }
   }
-  if (!phase) return;
+  // C moves slowly with the orientations: refreshed every 10 iterations of the phase.
+  if (!phase || ((iteration - phase_.start) % 10 != 1 && phase_c_.minCoeff() > 0)) return;
   std::vector<double> c[3];
   for (std::size_t e = 0; e < edges_.size(); ++e) {
     path(static_cast<int>(e), &sa_, &sb_, &top);
