@@ -39,6 +39,7 @@ RelaxerSummary optimize_sgd(PoseGraph& g, const SgdOptions& options) {
   auto write_back = [&] { fast ? chain_engine->write_back(g) : tree_engine->write_back(g); };
   RelaxerSummary s = run_relaxer(g, "sgd", phase.wrap(options.stop), step, write_back);
   s.num_loop_closures = rg.num_loop_closures;
+  if (!phase.note().empty()) s.notes.push_back(phase.note());
   if (rg.num_loop_closures == 0) s.notes.push_back("no loop closure: every constraint can be met exactly");
   return s;
 }

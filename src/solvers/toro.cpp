@@ -23,6 +23,7 @@ RelaxerSummary optimize_toro(PoseGraph& g, const ToroOptions& options) {
   };
   RelaxerSummary s = run_relaxer(g, "toro", phase.wrap(options.stop), step, [&] { engine.write_back(g); });
   s.num_loop_closures = rg.num_loop_closures;
+  if (!phase.note().empty()) s.notes.push_back(phase.note());
   if (rg.num_loop_closures == 0) s.notes.push_back("no loop closure: every constraint can be met exactly");
   return s;
 }

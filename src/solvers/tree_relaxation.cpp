@@ -35,6 +35,12 @@ RelaxerGradientPhase GradientPhaseSchedule::at(int iteration) {
   return p;
 }
 
+std::string GradientPhaseSchedule::note() const {
+  const int first = phase_.start + 1;
+  if (phase_.start <= 0 || first >= static_cast<int>(best_.size())) return "";
+  return "gradient phase (common learning rate, full Jacobian) from iteration " + std::to_string(first);
+}
+
 int tree_root(const RelaxerGraph& rg) {
   for (std::size_t k = 0; k < rg.gauge.size(); ++k)
     if (rg.gauge[k]) return static_cast<int>(k);

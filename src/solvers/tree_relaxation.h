@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
 
 #include "slamkit/core/pose_graph.h"
@@ -47,6 +48,8 @@ class GradientPhaseSchedule {
   explicit GradientPhaseSchedule(const RelaxerGradientPhase& phase) : phase_(phase) {}
   RelaxerStop wrap(const RelaxerStop& stop);
   RelaxerGradientPhase at(int iteration);
+  /// "gradient phase from iteration N" once it began (empty before).
+  std::string note() const;
 
  private:
   RelaxerGradientPhase phase_;
