@@ -8,7 +8,9 @@
 // iteration t (γ: the smallest diagonal information). Constraints are visited in a random
 // order (seeded, so the run is deterministic). Cost of an update: O(path length + depth) =
 // O(N) on the chain. 3D uses the rotation/translation split of the TORO engine on the same
-// chain. Converges from the odometry guess and, in 2D, from all-zero poses.
+// chain. Converges from the odometry guess and, in 2D, from all-zero poses. In 2D a second
+// phase (gradient_phase, relaxer.h) takes over when this update stalls: one common learning
+// rate and the full Jacobian (θ–translation coupling), whose fixed point is the optimum.
 #pragma once
 
 #include <cstdint>
