@@ -47,7 +47,7 @@ struct RelaxerStop {
 struct RelaxerGradientPhase {
   int start = 0;            ///< > 0: the phase's first iteration is start + 1; 0: when stalled; < 0: never
   double stall = 0.02;
-  int window = 10;
+  int window = 20;
   double t0 = 10;           ///< the phase's learning rate starts at C / (γ t0)
   double quantile = 0.5;    ///< C: this quantile of the constraints' path-length factors
   double max_turn = 0.01;   ///< [rad] bound of one constraint's coupling step on θ_a
