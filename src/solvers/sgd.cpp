@@ -25,17 +25,21 @@ RelaxerSummary optimize_sgd(PoseGraph& g, const SgdOptions& options) {
   std::optional<detail::TreeRelaxation> tree_engine;
   if (fast) chain_engine.emplace(g, rg, chain);
   else tree_engine.emplace(g, rg, parent);
+  detail::GradientPhaseSchedule phase(options.gradient_phase);
   std::vector<int> order(g.edges.size());
   std::iota(order.begin(), order.end(), 0);
   std::mt19937_64 rng(options.seed);
   auto step = [&](int iteration) {
     if (options.shuffle)  // Fisher-Yates with our own draws: the same order on every platform
       for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng() % i]);
+    if (fast) chain_engine->set_gradient_phase(phase.at(iteration));
+    else tree_engine->set_gradient_phase(phase.at(iteration));
     return fast ? chain_engine->iterate(iteration, order) : tree_engine->iterate(iteration, order);
   };
   auto write_back = [&] { fast ? chain_engine->write_back(g) : tree_engine->write_back(g); };
-  RelaxerSummary s = run_relaxer(g, "sgd", options.stop, step, write_back);
+  RelaxerSummary s = run_relaxer(g, "sgd", phase.wrap(options.stop), step, write_back);
   s.num_loop_closures = rg.num_loop_closures;
+  if (!phase.note().empty()) s.notes.push_back(phase.note());
   if (rg.num_loop_closures == 0) s.notes.push_back("no loop closure: every constraint can be met exactly");
   return s;
 }

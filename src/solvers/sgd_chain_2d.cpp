@@ -1,6 +1,7 @@
 #include "sgd_chain_2d.h"
 
 #include <cmath>
+#include <algorithm>
 #include <limits>
 
 namespace slamkit::detail {
@@ -52,16 +53,26 @@ void ChainSgd2D::range_add(int i, int lo, int hi, double c) {
 
 double ChainSgd2D::iterate(int iteration, const std::vector<int>& order) {
   // Preconditioner: M_k = Σ diag W over the edges whose range covers k (a difference array).
+  // Second phase: + uᵀ W_xy u on the θ increments 1..a (the coupling's diagonal).
+  const bool phase = phase_.start > 0 && iteration > phase_.start;
   std::vector<Eigen::Vector3d> m(n_ + 1, Eigen::Vector3d::Zero());
   gamma_.setConstant(std::numeric_limits<double>::infinity());
   for (const Edge& e : edges_) {
     Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
     G.topLeftCorner<2, 2>() = rot2(pose0_[e.pa].z() + e.z.z());
-    const Eigen::Vector3d w = (G * e.info * G.transpose()).diagonal();
+    const Eigen::Matrix3d W = G * e.info * G.transpose();
+    const Eigen::Vector3d w = W.diagonal();
     gamma_ = gamma_.cwiseMin(w);
     const int lo = std::min(e.pa, e.pb) + 1, hi = std::max(e.pa, e.pb);
     m[lo] += w;
     m[hi + 1] -= w;
+    if (phase && e.pa > 0) {
+      const Eigen::Vector2d rz = rot2(pose0_[e.pa].z()) * e.z.head<2>();
+      const Eigen::Vector2d u(-rz.y(), rz.x());
+      const double q = u.dot(W.topLeftCorner<2, 2>() * u);
+      m[1].z() += q;
+      m[e.pa + 1].z() -= q;
+    }
   }
   Eigen::Vector3d run = Eigen::Vector3d::Zero();
   for (int p = 0; p < n_; ++p) {
@@ -75,6 +86,19 @@ double ChainSgd2D::iterate(int iteration, const std::vector<int>& order) {
     std::fill(s1_[i].begin(), s1_[i].end(), 0.0);
     std::fill(s2_[i].begin(), s2_[i].end(), 0.0);
   }
+  if (phase) {  // C: the quantile of the path-length factors l / Σ_path 1/M
+    std::vector<double> c(edges_.size());
+    for (int i = 0; i < 3; ++i) {
+      for (std::size_t k = 0; k < edges_.size(); ++k) {
+        const int lo = std::min(edges_[k].pa, edges_[k].pb) + 1, hi = std::max(edges_[k].pa, edges_[k].pb);
+        c[k] = (hi - lo + 1) / (wsum_[i][hi] - wsum_[i][lo - 1]);
+      }
+      const auto q = c.begin() + static_cast<std::ptrdiff_t>(phase_.quantile * static_cast<double>(c.size() - 1));
+      std::nth_element(c.begin(), q, c.end());
+      phase_c_[i] = *q;
+    }
+  }
+  const double tau = phase ? phase_.t0 + (iteration - phase_.start) : iteration;
   double change = 0.0;
   for (int k : order) {
     const Edge& e = edges_[k];
@@ -86,15 +110,29 @@ double ChainSgd2D::iterate(int iteration, const std::vector<int>& order) {
     r.z() = wrap(th12 - pb.z());
     Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
     G.topLeftCorner<2, 2>() = rot2(th12);
-    const Eigen::Vector3d d = 2.0 * (G * e.info * G.transpose()) * r;
+    const Eigen::Matrix3d W = G * e.info * G.transpose();
+    const Eigen::Vector3d d = 2.0 * W * r;
     const int lo = std::min(e.pa, e.pb) + 1, hi = std::max(e.pa, e.pb);
     const double l = hi - lo + 1;
     // Increments between a and b move b (a before b on the chain) or a (b before a).
     const double sign = e.pa < e.pb ? 1.0 : -1.0;
+    if (phase && e.pa > 0) {  // coupling: ∂r_xy/∂θ_a = u, a step on the θ increments 1..a
+      const Eigen::Vector2d rz = rot2(pa.z()) * e.z.head<2>();
+      const Eigen::Vector2d u(-rz.y(), rz.x());
+      const double gu = d.head<2>().dot(u);
+      const double q = u.dot(W.topLeftCorner<2, 2>() * u);
+      const double lambda = phase_c_.z() / (gamma_.z() * tau);
+      const double total = lambda * gu * wsum_[2][e.pa];
+      const double bound = q > 0 ? std::min(phase_.max_turn, std::abs(0.5 * gu / q)) : 0.0;
+      const double scale = std::abs(total) > bound ? bound / std::abs(total) : 1.0;
+      range_add(2, 1, e.pa, -scale * lambda * gu);
+      change = std::max(change, std::abs(scale * total));
+    }
     for (int i = 0; i < 3; ++i) {
-      double beta = l * d[i] / (gamma_[i] * iteration);
-      if (std::abs(beta) > std::abs(r[i])) beta = r[i];
       const double tw = wsum_[i][hi] - wsum_[i][lo - 1];
+      // The papers' factor l, or (second phase) the common C_i.
+      double beta = (phase ? phase_c_[i] * tw : l) * d[i] / (gamma_[i] * tau);
+      if (std::abs(beta) > std::abs(r[i])) beta = r[i];
       const double c = sign * beta / tw;
       range_add(i, lo, hi, c);
       change = std::max(change, std::abs(beta));

@@ -5,7 +5,9 @@
 // coordinate keeps two Fenwick trees: with W(p) = Σ_{k≤p} w_k, a range add (l, r, c) adds
 // c·(W(min(p, r)) − W(l − 1)) to the pose at p ≥ l, i.e. W(p)·S1(p) + S2(p) with S1 += c at l,
 // −c at r+1 and S2 += −c·W(l−1) at l, +c·W(r) at r+1. Poses are materialized once per
-// iteration (the preconditioner M changes with the orientations). Internal.
+// iteration (the preconditioner M changes with the orientations). The second phase
+// (RelaxerGradientPhase) adds the coupling step on the θ increments 1..a, a prefix range add
+// in the same trees. Internal.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +22,7 @@ class ChainSgd2D {
  public:
   /// chain: the pose index at each position (chain[0] the root).
   ChainSgd2D(const PoseGraph& g, const RelaxerGraph& rg, std::vector<int> chain);
+  void set_gradient_phase(const RelaxerGradientPhase& phase) { phase_ = phase; }
   double iterate(int iteration, const std::vector<int>& order);
   void write_back(PoseGraph& g) const;
 
@@ -39,6 +42,8 @@ class ChainSgd2D {
   std::vector<double> w_[3], wsum_[3];  // w = 1/M per position, prefix sums (wsum[p] = Σ_{k≤p})
   std::vector<double> s1_[3], s2_[3];   // Fenwick trees, 1-based
   Eigen::Vector3d gamma_;
+  RelaxerGradientPhase phase_{0};
+  Eigen::Vector3d phase_c_ = Eigen::Vector3d::Zero();
 };
 
 }  // namespace slamkit::detail

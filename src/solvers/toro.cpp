@@ -16,9 +16,14 @@ RelaxerSummary optimize_toro(PoseGraph& g, const ToroOptions& options) {
   std::iota(order.begin(), order.end(), 0);
   for (std::size_t e = 0; e < order.size(); ++e) length[e] = engine.path_length(static_cast<int>(e));
   std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return length[x] < length[y]; });
-  auto step = [&](int iteration) { return engine.iterate(iteration, order); };
-  RelaxerSummary s = run_relaxer(g, "toro", options.stop, step, [&] { engine.write_back(g); });
+  detail::GradientPhaseSchedule phase(options.gradient_phase);
+  auto step = [&](int iteration) {
+    engine.set_gradient_phase(phase.at(iteration));
+    return engine.iterate(iteration, order);
+  };
+  RelaxerSummary s = run_relaxer(g, "toro", phase.wrap(options.stop), step, [&] { engine.write_back(g); });
   s.num_loop_closures = rg.num_loop_closures;
+  if (!phase.note().empty()) s.notes.push_back(phase.note());
   if (rg.num_loop_closures == 0) s.notes.push_back("no loop closure: every constraint can be met exactly");
   return s;
 }

@@ -15,6 +15,32 @@ Eigen::Matrix2d rot2(double th) {
 }
 }  // namespace
 
+RelaxerStop GradientPhaseSchedule::wrap(const RelaxerStop& stop) {
+  RelaxerStop s = stop;
+  s.callback = [this, user = stop.callback](const RelaxerIteration& it) {
+    best_.push_back(best_.empty() ? it.chi2 : std::min(best_.back(), it.chi2));
+    return !user || user(it);
+  };
+  return s;
+}
+
+RelaxerGradientPhase GradientPhaseSchedule::at(int iteration) {
+  if (phase_.start != 0) return phase_;
+  const int k = static_cast<int>(best_.size()) - 1;  // the last finished iteration
+  if (k == iteration - 1 && k > phase_.window &&
+      best_[k] > (1.0 - phase_.stall) * best_[static_cast<std::size_t>(k - phase_.window)])
+    phase_.start = k;  // iteration k + 1 is the phase's first
+  RelaxerGradientPhase p = phase_;
+  if (p.start == 0) p.start = -1;  // not yet
+  return p;
+}
+
+std::string GradientPhaseSchedule::note() const {
+  const int first = phase_.start + 1;
+  if (phase_.start <= 0 || first >= static_cast<int>(best_.size())) return "";
+  return "gradient phase (common learning rate, full Jacobian) from iteration " + std::to_string(first);
+}
+
 int tree_root(const RelaxerGraph& rg) {
   for (std::size_t k = 0; k < rg.gauge.size(); ++k)
     if (rg.gauge[k]) return static_cast<int>(k);
@@ -149,8 +175,9 @@ int TreeRelaxation::path_length(int e) const {
   return static_cast<int>(sa_.size() + sb_.size());
 }
 
-void TreeRelaxation::preconditioner_2d() {
+void TreeRelaxation::preconditioner_2d(int iteration) {
   const std::size_t n = vertex_.size();
+  const bool phase = in_phase(iteration);
   std::vector<double> theta(n, 0.0);
   for (int k : topo_) theta[k] = (parent_[k] < 0 ? 0.0 : theta[parent_[k]]) + inc_[k].z();
   std::fill(m2_.begin(), m2_.end(), Eigen::Vector3d::Zero());
@@ -160,11 +187,33 @@ void TreeRelaxation::preconditioner_2d() {
     const Edge& x = edges_[e];
     Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
     G.topLeftCorner<2, 2>() = rot2(theta[x.a] + x.z2.z());
-    const Eigen::Vector3d w = (G * x.info2 * G.transpose()).diagonal();
+    const Eigen::Matrix3d W = G * x.info2 * G.transpose();
+    const Eigen::Vector3d w = W.diagonal();
     gamma2_ = gamma2_.cwiseMin(w);
     path(static_cast<int>(e), &sa_, &sb_, &top);
     for (const auto* side : {&sa_, &sb_})
       for (int k : *side) m2_[k] += w;
+    if (phase) {  // the coupling's diagonal uᵀ W_xy u on the θ increments from the root to a
+      const Eigen::Vector2d rz = rot2(theta[x.a]) * x.z2.head<2>();
+      const Eigen::Vector2d u(-rz.y(), rz.x());
+      const double q = u.dot(W.topLeftCorner<2, 2>() * u);
+      for (int k = x.a; parent_[k] >= 0; k = parent_[k]) m2_[k].z() += q;
+    }
+  }
+  // C moves slowly with the orientations: refreshed every 10 iterations of the phase.
+  if (!phase || ((iteration - phase_.start) % 10 != 1 && phase_c_.minCoeff() > 0)) return;
+  std::vector<double> c[3];
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    path(static_cast<int>(e), &sa_, &sb_, &top);
+    Eigen::Vector3d tw = Eigen::Vector3d::Zero();
+    for (const auto* side : {&sa_, &sb_})
+      for (int k : *side) tw += m2_[k].cwiseInverse();
+    for (int i = 0; i < 3; ++i) c[i].push_back(static_cast<double>(sa_.size() + sb_.size()) / tw[i]);
+  }
+  for (int i = 0; i < 3; ++i) {
+    const auto q = c[i].begin() + static_cast<std::ptrdiff_t>(phase_.quantile * static_cast<double>(c[i].size() - 1));
+    std::nth_element(c[i].begin(), q, c[i].end());
+    phase_c_[i] = *q;
   }
 }
 
@@ -184,14 +233,30 @@ double TreeRelaxation::update_2d(const Edge& e, int iteration) {
   G.topLeftCorner<2, 2>() = rot2(th12);
   const Eigen::Vector3d d = 2.0 * (G * e.info2 * G.transpose()) * r;
   const double l = static_cast<double>(sa_.size() + sb_.size());
+  const bool phase = in_phase(iteration);
+  const double tau = phase ? phase_.t0 + (iteration - phase_.start) : iteration;
   Eigen::Vector3d beta, tw = Eigen::Vector3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    beta[i] = l * d[i] / (gamma2_[i] * iteration);
-    if (std::abs(beta[i]) > std::abs(r[i])) beta[i] = r[i];
-  }
   for (const auto* side : {&sa_, &sb_})
     for (int k : *side) tw += m2_[k].cwiseInverse();
+  for (int i = 0; i < 3; ++i) {
+    // The papers' factor l, or (second phase) the common C_i: Σ_path λ W r / M_k = C_i tw_i d_i / (γ_i τ).
+    beta[i] = (phase ? phase_c_[i] * tw[i] : l) * d[i] / (gamma2_[i] * tau);
+    if (std::abs(beta[i]) > std::abs(r[i])) beta[i] = r[i];
+  }
   double change = 0.0;
+  if (phase) {  // coupling: ∂r_xy/∂θ_a = u, a step on the θ increments from the root to a
+    const Eigen::Vector2d rz = rot2(pa.z()) * e.z2.head<2>();
+    const Eigen::Vector2d u(-rz.y(), rz.x());
+    const double gu = d.head<2>().dot(u);  // ∂(rᵀWr)/∂θ_a through r_xy
+    const double q = u.dot((G * e.info2 * G.transpose()).topLeftCorner<2, 2>() * u);
+    const double lambda = phase_c_.z() / (gamma2_.z() * tau);
+    double total = 0.0;
+    for (int k = e.a; parent_[k] >= 0; k = parent_[k]) total += lambda * gu / m2_[k].z();
+    const double bound = q > 0 ? std::min(phase_.max_turn, std::abs(0.5 * gu / q)) : 0.0;
+    const double scale = std::abs(total) > bound ? bound / std::abs(total) : 1.0;
+    for (int k = e.a; parent_[k] >= 0; k = parent_[k]) inc_[k].z() -= scale * lambda * gu / m2_[k].z();
+    change = std::abs(scale * total);
+  }
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int k : side == 0 ? sa_ : sb_) {
@@ -260,7 +325,7 @@ double TreeRelaxation::update_3d(const Edge& e, int iteration) {
 }
 
 double TreeRelaxation::iterate(int iteration, const std::vector<int>& order) {
-  if (dim_ == 2) preconditioner_2d();
+  if (dim_ == 2) preconditioner_2d(iteration);
   double change = 0.0;
   for (int e : order) {
     const Edge& x = edges_[e];

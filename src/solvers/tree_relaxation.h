@@ -14,12 +14,19 @@
 //       rotations Exp(c_k · f_r · ω) with c_k the cumulative weight along the path from a to b, then
 //       the translational residual (x_a x_z).t − x_b.t is spread as cumulative translations;
 //       f_r = min(1, √l · ω_e / (γ_r · iteration)), f_t = min(1, l · ω_e,t / (γ_t · iteration)).
+//   2D, second phase (RelaxerGradientPhase, from iteration `start` on): every constraint takes
+//       the same learning rate, λ_i = C_i / (γ_i τ), τ = t0 + t − start, C_i the quantile of
+//       c_e,i = l / Σ_path 1/M_k,i, i.e. Δp_k = ±λ_i W r / M_k,i (clamped as above), and the θ
+//       increments from the root to a take the coupling step −λ_θ (2 (W r)_xy · u) / M_k,θ,
+//       u = ∂r_xy/∂θ_a = perp(R(θa) z_xy), its sum bounded by the 1-D Newton step and max_turn;
+//       M_k,θ then also sums uᵀ W_xy u over the constraints whose root-to-a path holds k.
 // One update costs O(depth) (the exact pose of the path's top is recomputed from the root);
 // an iteration O(Σ_edges (path length + depth)). Internal to the solvers module.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
 
 #include "slamkit/core/pose_graph.h"
@@ -34,9 +41,26 @@ std::vector<int> id_chain(const PoseGraph& g, const RelaxerGraph& rg, int root);
 /// The root the tree relaxers hold fixed: the first gauge pose.
 int tree_root(const RelaxerGraph& rg);
 
+/// When SGD/TORO's second phase begins: wraps the stop rule to record the best chi2 of every
+/// iteration, and gives the phase to use in iteration t (start fixed once the stall is seen).
+class GradientPhaseSchedule {
+ public:
+  explicit GradientPhaseSchedule(const RelaxerGradientPhase& phase) : phase_(phase) {}
+  RelaxerStop wrap(const RelaxerStop& stop);
+  RelaxerGradientPhase at(int iteration);
+  /// "gradient phase from iteration N" once it began (empty before).
+  std::string note() const;
+
+ private:
+  RelaxerGradientPhase phase_;
+  std::vector<double> best_;  // best chi2 up to iteration k (entry 0: the start)
+};
+
 class TreeRelaxation {
  public:
   TreeRelaxation(const PoseGraph& g, const RelaxerGraph& rg, std::vector<int> parent);
+  /// 2D: the unbiased second phase (default: never).
+  void set_gradient_phase(const RelaxerGradientPhase& phase) { phase_ = phase; }
   /// Length of the tree path between the ends of edge e.
   int path_length(int e) const;
   /// One pass over the edges in `order`; returns the max |parameter change|.
@@ -56,7 +80,10 @@ class TreeRelaxation {
   void path(int e, std::vector<int>* a_side, std::vector<int>* b_side, int* top) const;
   double update_2d(const Edge& e, int iteration);
   double update_3d(const Edge& e, int iteration);
-  void preconditioner_2d();
+  void preconditioner_2d(int iteration);
+  bool in_phase(int iteration) const { return phase_.start > 0 && iteration > phase_.start; }
+  RelaxerGradientPhase phase_{0};
+  Eigen::Vector3d phase_c_ = Eigen::Vector3d::Zero();  // C of the second phase
   // 2D state
   std::vector<Eigen::Vector3d> inc_;  // global increments
   Eigen::Vector3d gamma2_;

@@ -35,6 +35,24 @@ struct RelaxerStop {
   std::function<bool(const RelaxerIteration&)> callback;
 };
 
+/// The second phase of SGD and TORO in 2D (the first is the papers' update, whose per-constraint
+/// path-length factor c_e = l / Σ_path 1/M_k makes it fast but moves its fixed point to the
+/// minimum of Σ c_e χ²_e). From iteration `start` on, each update is the preconditioned
+/// gradient of the true chi2 (Olson's Δp_k = λ M_k⁻¹ Jᵀ W r): one learning rate for every
+/// constraint, λ = C / (γ (t0 + t − start)) with C the `quantile` of the c_e, and the full
+/// Jacobian, i.e. also ∂r_xy/∂θ_a (the measured translation turns with pose a), a step on the θ
+/// increments from the root to a. Its fixed point is the least-squares optimum. It begins when
+/// the papers' update stalls: the best chi2 fell by less than `stall` (relative) over `window`
+/// iterations.
+struct RelaxerGradientPhase {
+  int start = 0;            ///< > 0: the phase's first iteration is start + 1; 0: when stalled; < 0: never
+  double stall = 0.02;
+  int window = 20;
+  double t0 = 10;           ///< the phase's learning rate starts at C / (γ t0)
+  double quantile = 0.5;    ///< C: this quantile of the constraints' path-length factors
+  double max_turn = 0.01;   ///< [rad] bound of one constraint's coupling step on θ_a
+};
+
 struct RelaxerSummary {
   std::string method;       ///< "sgd", "toro", "relax", "mlr", "hogman"
   int dimension = 2;

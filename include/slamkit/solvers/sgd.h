@@ -8,7 +8,9 @@
 // iteration t (γ: the smallest diagonal information). Constraints are visited in a random
 // order (seeded, so the run is deterministic). Cost of an update: O(path length + depth) =
 // O(N) on the chain. 3D uses the rotation/translation split of the TORO engine on the same
-// chain. Converges from the odometry guess and, in 2D, from all-zero poses.
+// chain. Converges from the odometry guess and, in 2D, from all-zero poses. In 2D a second
+// phase (gradient_phase, relaxer.h) takes over when this update stalls: one common learning
+// rate and the full Jacobian (θ–translation coupling), whose fixed point is the optimum.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +21,14 @@ namespace slamkit {
 
 struct SgdOptions {
   RelaxerStop stop;
+  /// 2D: the unbiased second phase (relaxer.h). On the chain the paths are long, so SGD takes
+  /// a low quantile of the path-length factors (measured on M3500 and INTEL).
+  RelaxerGradientPhase gradient_phase = sgd_gradient_phase();
+  static RelaxerGradientPhase sgd_gradient_phase() {
+    RelaxerGradientPhase p;
+    p.quantile = 0.05;
+    return p;
+  }
   std::uint64_t seed = 1;  ///< order of the constraints in each iteration
   bool shuffle = true;     ///< false: file order
 };

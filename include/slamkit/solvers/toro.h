@@ -10,7 +10,7 @@
 // fractional rotations about one global axis, then the translational residual as cumulative
 // shifts (the rotation/translation split), each scaled by a learning rate 1/(γ · t) and
 // clamped so that no update overshoots. Cost of an update: O(path length + tree depth), which
-// the spanning tree keeps short.
+// the spanning tree keeps short. 2D: the same second phase as SGD (gradient_phase, relaxer.h).
 #pragma once
 
 #include "slamkit/solvers/relaxer.h"
@@ -19,6 +19,7 @@ namespace slamkit {
 
 struct ToroOptions {
   RelaxerStop stop;
+  RelaxerGradientPhase gradient_phase;  ///< 2D: the unbiased second phase (relaxer.h)
 };
 
 /// Optimizes the poses of `g` in place. Throws InputError for graphs the relaxers cannot take.
