@@ -111,7 +111,11 @@ Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& values, 
                "the normal equations could not be factorized even with large damping (rank-deficient problem?)");
         break;
       }
-      const double predicted = -2.0 * ne.gradient().dot(step) - ne.quadratic(step);
+      // Model reduction −2gᵀδ − δᵀHδ. A direct solve has (H + λD)δ = −g, so δᵀHδ = −gᵀδ − λδᵀDδ
+      // (no pass over the blocks); PCG's inexact δ needs the quadratic form itself.
+      const double predicted = solver.method() == SchurMethod::kPcg
+                                   ? -2.0 * ne.gradient().dot(step) - ne.quadratic(step)
+                                   : -ne.gradient().dot(step) + lambda * (D.array() * step.array().square()).sum();
       ne.retract(x, step.data(), candidate);
       t0 = now_s();
       const double new_cost = ne.cost(candidate);  // no Jacobians: H and g stay at x

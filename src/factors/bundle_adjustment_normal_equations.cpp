@@ -10,7 +10,7 @@ namespace slamkit {
 namespace {
 
 constexpr int kChunk = 256;  // points per cost chunk (fixed: the summation order)
-constexpr int kFr = 20;      // doubles per observation in the buffer: F (2×9, col-major), r (2)
+constexpr int kFt = 18;      // doubles per observation in ft_: F_ijᵀ (9×2, col-major)
 
 using Mat29 = Eigen::Matrix<double, 2, 9>;
 using Mat23 = Eigen::Matrix<double, 2, 3>;
@@ -100,7 +100,10 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
       if (p.observations[cam_obs_[q]].point == p.observations[cam_obs_[q - 1]].point) w_first_[cam_obs_[q]] = 0;
   g_.setZero(hessian_.rows());
   diag_.setZero(hessian_.rows());
-  fr_.assign(static_cast<std::size_t>(no) * kFr, 0.0);
+  ft_.assign(static_cast<std::size_t>(no) * kFt, 0.0);
+  r_cam_.assign(2 * static_cast<std::size_t>(no), 0.0);
+  cam_slot_.resize(no);
+  for (int q = 0; q < no; ++q) cam_slot_[cam_obs_[q]] = q;
   rot_.resize(nc_);
   chunk_cost_.assign((np_ + kChunk - 1) / kChunk, 0.0);
 }
@@ -120,7 +123,7 @@ void BalNormalEquations::rotations(const BalState& x) const {
 }
 
 // Per point j (chunks of kChunk points): residuals of its observations; with Jacobians also
-// C_j, g_j, W_ij (into H, the point's own column) and F_ij, r_ij (into fr_).
+// C_j, g_j, W_ij (into H, the point's own column) and F_ijᵀ, r_ij (into ft_, r_cam_).
 template <bool kJacobians>
 double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* chunk_cost) {
   rotations(x);
@@ -150,15 +153,16 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
               }
               Eigen::Vector2d r = bal_reprojection(rot_[o.camera], cam, X, o.pixel, &F, &E);
               sum += kernel_ ? robust_correct(*kernel_, r, &F, &E) : r.squaredNorm();
-              C.noalias() += E.transpose() * E;
+              C.noalias() += E.transpose().lazyProduct(E);
               gj.noalias() += E.transpose() * r;
               MapS<9, 3> W(H + w_off_[k], 9, 3, Eigen::OuterStride<>(ld));
-              if (w_first_[k]) W.noalias() = F.transpose() * E;
-              else W.noalias() += F.transpose() * E;
-              double* fr = fr_.data() + static_cast<std::size_t>(k) * kFr;
-              Eigen::Map<Mat29> F_out(fr);
-              F_out = F;
-              fr[18] = r[0], fr[19] = r[1];
+              if (w_first_[k]) W.noalias() = F.transpose().lazyProduct(E);
+              else W.noalias() += F.transpose().lazyProduct(E);
+              // At the observation's slot in camera order: camera i's F_ijᵀ form one 9 × 2m matrix.
+              const std::size_t slot = static_cast<std::size_t>(cam_slot_[k]);
+              Eigen::Map<Eigen::Matrix<double, 9, 2>> Ft(ft_.data() + slot * kFt);
+              Ft = F.transpose();
+              r_cam_[2 * slot] = r[0], r_cam_[2 * slot + 1] = r[1];
             }
             if (kJacobians) {
               MapS<3, 3>(H + hessian_.block_offset(j, j), 3, 3, Eigen::OuterStride<>(ld)) = C;
@@ -189,14 +193,15 @@ double BalNormalEquations::linearize(const BalState& x) {
       nc_,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
+          // B_i = M Mᵀ, g_i = M r with M = [F_ij₁ᵀ … F_ijₘᵀ] (9 × 2m, contiguous): one blocked product
+          // per camera instead of m tiny ones; its summation order depends only on m.
+          const int m2 = 2 * (cam_ptr_[i + 1] - cam_ptr_[i]);
+          const Eigen::Map<const Eigen::Matrix<double, 9, Eigen::Dynamic>> M(
+              ft_.data() + static_cast<std::size_t>(cam_ptr_[i]) * kFt, 9, m2);
           Mat99 B = Mat99::Zero();
-          Eigen::Matrix<double, 9, 1> gi = Eigen::Matrix<double, 9, 1>::Zero();
-          for (int q = cam_ptr_[i]; q < cam_ptr_[i + 1]; ++q) {
-            const double* fr = fr_.data() + static_cast<std::size_t>(cam_obs_[q]) * kFr;
-            const Eigen::Map<const Mat29> F(fr);
-            B.noalias() += F.transpose() * F;
-            gi.noalias() += F.transpose() * Eigen::Map<const Eigen::Vector2d>(fr + 18);
-          }
+          B.selfadjointView<Eigen::Lower>().rankUpdate(M);
+          B.triangularView<Eigen::StrictlyUpper>() = B.transpose();
+          const Eigen::Matrix<double, 9, 1> gi = M * Eigen::Map<const Eigen::VectorXd>(r_cam_.data() + 2 * cam_ptr_[i], m2);
           const int bi = np_ + static_cast<int>(i);
           MapS<9, 9>(H + hessian_.block_offset(bi, bi), 9, 9, Eigen::OuterStride<>(hessian_.leading_dim(bi))) = B;
           const int s = hessian_.block_start(bi);

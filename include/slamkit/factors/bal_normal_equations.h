@@ -12,8 +12,8 @@
 // that SchurComplementSolver forms S = B − Σ_j W_·j C_j⁻¹ W_·jᵀ (or applies it, PCG) from them
 // for every λ without re-evaluating anything.
 // Parallelism: one pass over points (r, F, E of its observations in camera order; writes C_j,
-// g_j, W_ij, and F_ij, r_ij into a per-observation buffer of 20 doubles), one over cameras
-// (B_i, g_i from that buffer, observations in point order). Costs are summed per fixed chunk
+// g_j, W_ij, and F_ijᵀ, r_ij into a buffer in camera order: 20 doubles per observation), one
+// over cameras (B_i = M Mᵀ, g_i = M r with M the camera's F_ijᵀ side by side, point order). Costs are summed per fixed chunk
 // of points, then chunk by chunk: results are bit-identical for any thread count.
 #pragma once
 
@@ -85,7 +85,9 @@ class BalNormalEquations {
   BlockSparseMatrix hessian_;
   Eigen::VectorXd g_, diag_, damping_;
   bool damped_ = false;
-  std::vector<double> fr_;  // per observation: F_ij (2×9) and r_ij (2), after the kernel
+  // F_ijᵀ (9×2) and r_ij per observation, after the kernel, in camera order (slot cam_slot_[k]).
+  std::vector<double> ft_, r_cam_;
+  std::vector<int> cam_slot_;
   mutable std::vector<Eigen::Matrix3d> rot_;
   mutable std::vector<double> chunk_cost_;
 };
