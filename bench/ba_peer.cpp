@@ -7,7 +7,11 @@
 //   slamkit: LM with the Schur complement, schur-dense / schur-cholesky / schur-pcg / auto, 2 threads.
 // Same stopping rule for both: function tolerance 1e-6, gradient 1e-10, parameter 1e-8,
 // at most 100 iterations. Costs are ½ Σ‖r‖².
-//   ba_peer [--only SUBSTRING] [--skip-large] [--out bench/results/ba_peer.json]
+// Every solver runs once per round, rounds interleaved (--rounds, default 3); the JSON keeps
+// each round and the medians (wall and CPU time of the child, its peak RSS = what
+// /usr/bin/time -v calls "Maximum resident set size"). The machine is shared: read CPU times.
+//   ba_peer [--only SUBSTRING] [--skip-large 1] [--ours a,b] [--ceres A,B] [--rounds N] [--bare 0|1]
+//           [--out bench/results/ba_peer.json]
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 #include <sys/resource.h>
