@@ -7,7 +7,11 @@
 //   slamkit: LM with the Schur complement, schur-dense / schur-cholesky / schur-pcg / auto, 2 threads.
 // Same stopping rule for both: function tolerance 1e-6, gradient 1e-10, parameter 1e-8,
 // at most 100 iterations. Costs are ½ Σ‖r‖².
-//   ba_peer [--only SUBSTRING] [--skip-large] [--out bench/results/ba_peer.json]
+// Every solver runs once per round, rounds interleaved (--rounds, default 3); the JSON keeps
+// each round and the medians (wall and CPU time of the child, its peak RSS = what
+// /usr/bin/time -v calls "Maximum resident set size"). The machine is shared: read CPU times.
+//   ba_peer [--only SUBSTRING] [--skip-large 1] [--ours a,b] [--ceres A,B] [--rounds N] [--bare 0|1]
+//           [--out bench/results/ba_peer.json]
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 #include <sys/resource.h>
@@ -17,9 +21,11 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "bench_data.h"
+#include "slamkit/factors/bal_normal_equations.h"
 #include "slamkit/factors/bundle_adjustment.h"
 #include "slamkit/io/bal_io.h"
 #include "slamkit/linear/normal_equations.h"
@@ -107,39 +113,40 @@ nlohmann::json run_slamkit(BalProblem p, const std::string& linear) {
           {"iterations", s.iterations},
           {"linear_solver_seconds", s.time_linear_solver_s},
           {"seconds_per_iteration", s.time_total_s / iters},
+          {"linearize_seconds", s.time_linearize_s},
+          {"evaluate_seconds", s.time_evaluate_s},
+          {"linear_solves", s.linear_solves},
+          {"pcg_iterations", s.pcg_iterations},
           {"termination", to_string(s.termination)}};
 }
 
-// One bare factorization of the reduced camera system at the start point, for each direct
-// method: S formed from H (Schur elimination) and factorized, and the factorization of S alone
-// (medians of 3), to compare with slamkit's time per iteration.
+// One bare factorization of the reduced camera system at the start point (H from
+// BalNormalEquations, damped by λ = 1e-4 as LM's first step): Schur elimination (S formed)
+// + factorization, and the factorization alone; for schur-pcg one preconditioner + one PCG
+// solve. Medians of 3, to compare with slamkit's time per iteration.
 nlohmann::json bare_factorization(const BalProblem& p, SchurMethod method) {
-  BundleAdjustmentProblem ba = build_bundle_adjustment_problem(p);
   const ThreadPool pool(2);
-  EliminationOrder order;
-  order.method = "points first";
-  for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t i = 0; i < ba.values.size(); ++i)
-      if (is_bal_point_key(ba.values.key(i)) == (pass == 0)) order.order.push_back(static_cast<int>(i));
-  NormalEquations ne(ba.graph, ba.values, OrderingMethod::kAuto, &order);
-  ne.linearize(ba.values, pool);
-  ne.set_diagonal_damping(1e-4 * ne.hessian_diagonal());
-  std::vector<char> elim(ne.num_free_variables());
-  for (int k = 0; k < ne.num_free_variables(); ++k) elim[k] = is_bal_point_key(ba.values.key(ne.free_variable(k)));
+  BalNormalEquations ne(p, nullptr, pool);
+  ne.linearize(make_bal_state(p));
+  ne.set_diagonal_damping(1e-4 * ne.hessian_diagonal().cwiseMax(1e-6));
   SchurOptions so;
   so.method = method;
-  SchurComplementSolver solver(elim, pool, so);
+  SchurComplementSolver solver(ne.eliminate_flags(), pool, so);
   solver.analyze(ne.hessian());
   std::vector<double> total, factor;
+  const Eigen::VectorXd rhs = -ne.gradient();
+  Eigen::VectorXd x(rhs.size());
   for (int r = 0; r < 3; ++r) {
     const double t0 = now_s();
     solver.factorize(ne.hessian());
+    if (method == SchurMethod::kPcg) solver.solve(rhs.data(), x.data());
     total.push_back(now_s() - t0);
-    factor.push_back(solver.last_factor_time_s());
+    factor.push_back(method == SchurMethod::kPcg ? total.back() - solver.last_schur_time_s() : solver.last_factor_time_s());
   }
   std::sort(total.begin(), total.end());
   std::sort(factor.begin(), factor.end());
-  return {{"method", to_string(method)}, {"schur_and_factorize_s", total[1]}, {"factorize_s", factor[1]}};
+  return {{"method", to_string(method)}, {"schur_and_factorize_s", total[1]}, {"factorize_s", factor[1]},
+          {"pcg_iterations", solver.last_pcg_iterations()}};
 }
 
 // Runs fn in a child process; returns its JSON with the child's peak RSS.
@@ -189,12 +196,13 @@ int main(int argc, char** argv) {
   reexec_with_better_blas_core(argv);
   const SerialOpenMpScope serial_openmp;  // CHOLMOD's OpenMP regions serial for both (1 BLAS thread)
   std::string only, out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/ba_peer.json", skip_large = "0";
-  std::string ours_only, ceres_only, bare_only = "1";
+  std::string ours_only, ceres_only, bare_only = "1", rounds_s = "3";
   if (!bench::parse_options(argc, argv,
-                            "[--only SUBSTRING] [--skip-large 1] [--ours a,b] [--ceres A,B] [--bare 0|1] [--out FILE]",
+                            "[--only SUBSTRING] [--skip-large 1] [--ours a,b] [--ceres A,B] [--bare 0|1] [--rounds N] [--out FILE]",
                             {{"--only", &only}, {"--skip-large", &skip_large}, {"--ours", &ours_only},
-                             {"--ceres", &ceres_only}, {"--bare", &bare_only}, {"--out", &out}}))
+                             {"--ceres", &ceres_only}, {"--bare", &bare_only}, {"--rounds", &rounds_s}, {"--out", &out}}))
     return 2;
+  const int rounds = std::max(1, std::stoi(rounds_s));
   auto wanted = [](const std::string& list, const std::string& name) {
     return list.empty() || ("," + list + ",").find("," + name + ",") != std::string::npos;
   };
@@ -232,35 +240,75 @@ int main(int argc, char** argv) {
     const BalProblem p = c.make();
     std::printf("== %s: %d cameras, %d points, %d observations\n", c.name.c_str(), p.num_cameras(), p.num_points(),
                 p.num_observations());
+    // Interleaved rounds (every solver once per round, Ceres and slamkit alternating), then
+    // medians per solver: the machine is shared, so wall and CPU times are both reported.
+    std::vector<std::string> names;
+    std::map<std::string, std::vector<nlohmann::json>> by_solver;
+    for (const std::string& x : c.ceres)
+      if (wanted(ceres_only, x)) names.push_back("ceres " + x);
+    for (const std::string& x : c.ours)
+      if (wanted(ours_only, x)) names.push_back("slamkit " + x);
+    for (int round = 0; round < rounds; ++round) {
+      for (const std::string& name : names) {
+        const bool ceres = name.rfind("ceres ", 0) == 0;
+        const std::string solver = name.substr(ceres ? 6 : 8);
+        nlohmann::json j = ceres ? in_child([&] { return run_ceres(p, solver); })
+                                 : in_child([&] { return run_slamkit(p, solver); });
+        j["round"] = round;
+        j["load_average"] = load_average();
+        std::printf("  [%d] %-24s %8.3f s (cpu %8.3f)  %3d it  cost %.6e -> %.6e  %7.0f MB  %s\n", round, name.c_str(),
+                    j.value("seconds", 0.0), j.value("cpu_seconds", 0.0), j.value("iterations", 0),
+                    j.value("initial_cost", 0.0), j.value("final_cost", 0.0), j.value("peak_rss_mb", 0.0),
+                    j.value("error", "").c_str());
+        std::fflush(stdout);
+        by_solver[name].push_back(j);
+      }
+    }
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+    };
     nlohmann::json runs = nlohmann::json::array();
     double best_ceres = 1e300, best_ceres_cost = 0, best_ceres_cpu = 1e300;
-    for (const std::string& s : c.ceres) {
-      if (!wanted(ceres_only, s)) continue;
-      nlohmann::json j = in_child([&] { return run_ceres(p, s); });
-      std::printf("  %-24s %8.3f s (cpu %8.3f)  %3d it  cost %.6e -> %.6e  %7.0f MB  %s\n", j.value("solver", s).c_str(),
-                  j.value("seconds", 0.0), j.value("cpu_seconds", 0.0), j.value("iterations", 0), j.value("initial_cost", 0.0),
-                  j.value("final_cost", 0.0), j.value("peak_rss_mb", 0.0), j.value("error", "").c_str());
-      std::fflush(stdout);
-      if (j.value("seconds", 1e300) < best_ceres) best_ceres = j["seconds"], best_ceres_cost = j["final_cost"];
-      best_ceres_cpu = std::min(best_ceres_cpu, j.value("cpu_seconds", 1e300));
-      runs.push_back(j);
+    for (const std::string& name : names) {
+      const auto& rs = by_solver[name];
+      std::vector<double> wall, cpu, per_it;
+      double rss = 0.0;
+      for (const auto& j : rs) {
+        wall.push_back(j.value("seconds", 0.0)), cpu.push_back(j.value("cpu_seconds", 0.0));
+        rss = std::max(rss, j.value("peak_rss_mb", 0.0));
+        per_it.push_back(j.value("solve_seconds", 0.0) / std::max(1, j.value("iterations", 1)));
+      }
+      nlohmann::json m = rs.back();
+      m.erase("round"), m.erase("load_average");
+      m["median_seconds"] = median(wall), m["median_cpu_seconds"] = median(cpu), m["max_peak_rss_mb"] = rss;
+      m["median_seconds_per_iteration"] = median(per_it);
+      m["rounds"] = rs;
+      if (name.rfind("ceres ", 0) == 0) {
+        if (m["median_seconds"].get<double>() < best_ceres) best_ceres = m["median_seconds"], best_ceres_cost = m.value("final_cost", 0.0);
+        best_ceres_cpu = std::min(best_ceres_cpu, m["median_cpu_seconds"].get<double>());
+      }
+      runs.push_back(m);
     }
-    for (const std::string& s : c.ours) {
-      if (!wanted(ours_only, s)) continue;
-      nlohmann::json j = in_child([&] { return run_slamkit(p, s); });
-      const double t = j.value("seconds", 0.0);
-      j["ratio_vs_fastest_ceres"] = t / best_ceres;
-      j["cpu_ratio_vs_least_cpu_ceres"] = j.value("cpu_seconds", 0.0) / best_ceres_cpu;
-      j["cost_vs_fastest_ceres"] = j.value("final_cost", 0.0) / best_ceres_cost - 1.0;
-      std::printf("  %-24s %8.3f s (cpu %8.3f)  %3d it  cost %.6e -> %.6e  %7.0f MB  x%.3f of fastest Ceres (cpu x%.3f), cost %+.2e  %s\n",
-                  j.value("solver", s).c_str(), t, j.value("cpu_seconds", 0.0), j.value("iterations", 0), j.value("initial_cost", 0.0),
-                  j.value("final_cost", 0.0), j.value("peak_rss_mb", 0.0), t / best_ceres, j.value("cpu_seconds", 0.0) / best_ceres_cpu,
-                  j.value("final_cost", 0.0) / best_ceres_cost - 1.0, j.value("error", "").c_str());
-      std::fflush(stdout);
-      runs.push_back(j);
+    for (auto& m : runs) {
+      if (m.value("solver", "").rfind("slamkit ", 0) != 0) continue;
+      m["ratio_vs_fastest_ceres"] = m["median_seconds"].get<double>() / best_ceres;
+      m["cpu_ratio_vs_least_cpu_ceres"] = m["median_cpu_seconds"].get<double>() / best_ceres_cpu;
+      m["cost_vs_fastest_ceres"] = m.value("final_cost", 0.0) / best_ceres_cost - 1.0;
     }
+    std::printf("  medians over %d rounds:\n", rounds);
+    for (const auto& m : runs) {
+      std::printf("  %-24s %8.3f s (cpu %8.3f)  %3d it  %.4f s/it  final %.8e  %7.0f MB", m.value("solver", "").c_str(),
+                  m["median_seconds"].get<double>(), m["median_cpu_seconds"].get<double>(), m.value("iterations", 0),
+                  m["median_seconds_per_iteration"].get<double>(), m.value("final_cost", 0.0), m["max_peak_rss_mb"].get<double>());
+      if (m.contains("ratio_vs_fastest_ceres"))
+        std::printf("  x%.3f of fastest Ceres (cpu x%.3f), cost %+.2e", m["ratio_vs_fastest_ceres"].get<double>(),
+                    m["cpu_ratio_vs_least_cpu_ceres"].get<double>(), m["cost_vs_fastest_ceres"].get<double>());
+      std::printf("\n");
+    }
+    std::fflush(stdout);
     nlohmann::json bare = nlohmann::json::array();
-    for (SchurMethod m : {SchurMethod::kDense, SchurMethod::kCholesky}) {
+    for (SchurMethod m : {SchurMethod::kDense, SchurMethod::kCholesky, SchurMethod::kPcg}) {
       if ((m == SchurMethod::kDense && p.num_cameras() > 400) || bare_only != "1") continue;
       nlohmann::json b = in_child([&] { return bare_factorization(p, m); });
       std::printf("  bare %-19s Schur elimination + factorization %.4f s, factorization alone %.4f s\n",
@@ -278,6 +326,7 @@ int main(int argc, char** argv) {
                        {"runs", runs}});
   }
   nlohmann::json doc = {{"ceres_version", CERES_VERSION_STRING}, {"threads", 2}, {"function_tolerance", 1e-6},
+                        {"rounds", rounds}, {"note", "interleaved rounds, medians; shared 2-core machine: see cpu figures"},
                         {"problems", results}};
   std::ofstream(out) << doc.dump(2) << "\n";
   std::printf("wrote %s\n", out.c_str());

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "slamkit/factors/bal_normal_equations.h"
 #include "slamkit/factors/bal_reprojection_factor.h"
 
 namespace slamkit {
@@ -34,6 +35,16 @@ OptimizerOptions BundleAdjustmentOptions::default_optimizer() {
 
 BundleAdjustmentResult optimize_bundle_adjustment(BalProblem& p, const BundleAdjustmentOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (!options.use_factor_graph && options.optimizer.algorithm == Algorithm::kLevenbergMarquardt) {
+    BalState x = make_bal_state(p);
+    BundleAdjustmentResult r;
+    r.time_build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.summary = optimize_bal_levenberg_marquardt(p, x, options.optimizer, options.kernel);
+    r.initial_cost = 0.5 * r.summary.initial_cost;
+    r.final_cost = 0.5 * r.summary.final_cost;
+    copy_bal_state(x, p);
+    return r;
+  }
   BundleAdjustmentProblem ba = build_bundle_adjustment_problem(p, options.kernel);
   BundleAdjustmentResult r;
   r.time_build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

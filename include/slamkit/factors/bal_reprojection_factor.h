@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "slamkit/core/bal_problem.h"
 #include "slamkit/core/factor.h"
@@ -56,6 +57,40 @@ struct ManifoldTraits<BalCamera> {
     return c;
   }
 };
+
+/// The BAL residual r = u(camera, X) − z and (optional) its Jacobians, for a camera whose
+/// rotation matrix R is given (computed once per camera by the bundle-adjustment solver).
+/// Fixed-size, no allocation: the kernel of BalReprojectionFactor and of BalNormalEquations.
+inline Eigen::Vector2d bal_reprojection(const Eigen::Matrix3d& R, const BalCamera& c, const Eigen::Vector3d& X,
+                                        const Eigen::Vector2d& z, Eigen::Matrix<double, 2, 9>* J_camera,
+                                        Eigen::Matrix<double, 2, 3>* J_point) {
+  const Eigen::Vector3d P = R * X + c.translation;
+  const double iz = 1.0 / P.z();
+  const Eigen::Vector2d p(-P.x() * iz, -P.y() * iz);
+  const double n = p.squaredNorm();
+  const double d = 1.0 + c.k1 * n + c.k2 * n * n;
+  const Eigen::Vector2d r = c.f * d * p - z;
+  if (!J_camera && !J_point) return r;
+  // du/dP = du/dp · dp/dP (2×3).
+  const double dd_dn = c.k1 + 2.0 * c.k2 * n;
+  const Eigen::Matrix2d du_dp = (c.f * d) * Eigen::Matrix2d::Identity() + (2.0 * c.f * dd_dn) * p * p.transpose();
+  Eigen::Matrix<double, 2, 3> dp_dP;
+  dp_dP << -iz, 0.0, P.x() * iz * iz, 0.0, -iz, P.y() * iz * iz;
+  const Eigen::Matrix<double, 2, 3> du_dP = du_dp * dp_dP;
+  const Eigen::Matrix<double, 2, 3> du_dR = du_dP * R;  // = ∂u/∂X
+  if (J_point) *J_point = du_dR;
+  if (J_camera) {
+    // ∂P/∂δφ = −R [X]×, so ∂u/∂δφ = −(∂u/∂X) [X]×.
+    Eigen::Matrix3d X_hat;
+    X_hat << 0.0, -X.z(), X.y(), X.z(), 0.0, -X.x(), -X.y(), X.x(), 0.0;
+    J_camera->leftCols<3>() = -du_dR * X_hat;
+    J_camera->middleCols<3>(3) = du_dP;
+    J_camera->col(6) = d * p;
+    J_camera->col(7) = c.f * n * p;
+    J_camera->col(8) = c.f * n * n * p;
+  }
+  return r;
+}
 
 class BalReprojectionFactor final : public FactorN<2, BalCamera, Eigen::Vector3d> {
  public:

@@ -37,6 +37,10 @@ void copy_bundle_adjustment_estimates(const Values& values, BalProblem& p);
 struct BundleAdjustmentOptions {
   OptimizerOptions optimizer = default_optimizer();
   std::shared_ptr<const RobustKernel> kernel;
+  /// LM (the default) runs on BalNormalEquations (factors/bal_normal_equations.h: fixed-size
+  /// kernels straight into the Schur solver's blocks); the other algorithms, or this flag, use
+  /// the generic Optimizer on the factor graph.
+  bool use_factor_graph = false;
   /// LM with Ceres' defaults (radius 1e4 ⇒ λ₀ = 1e-4 on diag(JᵀJ)) and its function tolerance
   /// 1e-6; points eliminated by the Schur complement, method chosen by size.
   static OptimizerOptions default_optimizer();
@@ -45,7 +49,7 @@ struct BundleAdjustmentOptions {
 struct BundleAdjustmentResult {
   Summary summary;
   double initial_cost = 0.0, final_cost = 0.0;  ///< ½ Σ ρ(‖r‖²)
-  double time_build_s = 0.0;                    ///< building the factor graph
+  double time_build_s = 0.0;                    ///< building the factor graph (or the solver's state)
   // summary.linear_solver names the reduced-system solver ("Schur complement (...) + dense LLT").
 };
 

@@ -1,0 +1,103 @@
+// BalNormalEquations: the normal equations H δ = −g of bundle adjustment, built directly from
+// the observations with fixed-size kernels (bal_reprojection) — no factor graph, no generic
+// assembly, no Jacobians kept beyond the few numbers the camera reduction needs.
+//
+// Tangent order: points first (3 each), then cameras (9 each), as the Optimizer orders a Schur
+// problem. With F_ij = ∂r_ij/∂camera_i (2×9) and E_ij = ∂r_ij/∂X_j (2×3), after the robust
+// kernel's correction (Triggs, exactly as Factor::linearize), H holds only the λ-independent
+// pieces the Schur complement needs:
+//   C_j = Σ_i E_ijᵀE_ij (3×3 per point),  W_ij = F_ijᵀE_ij (9×3 per observed pair),
+//   B_i = Σ_j F_ijᵀF_ij (9×9 per camera; cameras never share a block),
+// g = Jᵀr, laid out as a BlockSparseMatrix (point columns [C_j; W_·j], camera columns [B_i]) so
+// that SchurComplementSolver forms S = B − Σ_j W_·j C_j⁻¹ W_·jᵀ (or applies it, PCG) from them
+// for every λ without re-evaluating anything.
+// Parallelism: one pass over points (r, F, E of its observations in camera order; writes C_j,
+// g_j, W_ij, and F_ijᵀ, r_ij into a buffer in camera order: 20 doubles per observation), one
+// over cameras (B_i = M Mᵀ, g_i = M r with M the camera's F_ijᵀ side by side, point order). Costs are summed per fixed chunk
+// of points, then chunk by chunk: results are bit-identical for any thread count.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "slamkit/core/bal_problem.h"
+#include "slamkit/core/parallel.h"
+#include "slamkit/core/robust_kernel.h"
+#include "slamkit/factors/bal_reprojection_factor.h"
+#include "slamkit/linear/block_sparse_matrix.h"
+#include "slamkit/solvers/summary.h"
+
+namespace slamkit {
+
+/// The variables of a BAL problem as the solver moves them (cameras on SO3 × R⁶).
+struct BalState {
+  std::vector<BalCamera> cameras;
+  std::vector<Eigen::Vector3d> points;
+};
+BalState make_bal_state(const BalProblem& p);
+void copy_bal_state(const BalState& x, BalProblem& p);
+
+class BalNormalEquations {
+ public:
+  /// kernel may be null (squared loss). The problem and the pool must outlive this object.
+  BalNormalEquations(const BalProblem& p, std::shared_ptr<const RobustKernel> kernel, const ThreadPool& pool);
+
+  int dim() const { return hessian_.rows(); }
+  int num_points() const { return np_; }
+  int num_cameras() const { return nc_; }
+  /// Block b of H is a point (the blocks SchurComplementSolver eliminates).
+  std::vector<char> eliminate_flags() const;
+
+  /// Σ ρ(‖r‖²) at x, without Jacobians (NaN/inf if some residual is not finite).
+  double cost(const BalState& x) const;
+  /// H, g and diag(H) at x (undamped); returns the cost at x.
+  double linearize(const BalState& x);
+  /// Index of the first observation whose residual is not finite at x (−1 if none).
+  int first_nonfinite_observation(const BalState& x) const;
+
+  const BlockSparseMatrix& hessian() const { return hessian_; }
+  const Eigen::VectorXd& gradient() const { return g_; }
+  const Eigen::VectorXd& hessian_diagonal() const { return diag_; }
+  /// diag(H) ← diag + damping (replaces any previous damping); clear_damping restores it.
+  void set_diagonal_damping(const Eigen::VectorXd& damping);
+  void clear_damping();
+  /// δᵀ H δ with the undamped H.
+  double quadratic(const Eigen::VectorXd& d) const;
+  /// out = x ⊞ δ (points additive, cameras by BalCamera::plus).
+  void retract(const BalState& x, const double* step, BalState& out) const;
+  /// ‖x‖ over the ambient parameters (quaternion, t, f, k1, k2, points), for the parameter tolerance.
+  static double parameter_norm(const BalState& x);
+
+ private:
+  template <bool kJacobians>
+  double point_pass(const BalState& x, std::vector<double>* chunk_cost);
+  void rotations(const BalState& x) const;
+
+  const BalProblem& p_;
+  std::shared_ptr<const RobustKernel> kernel_;
+  const ThreadPool& pool_;
+  int np_ = 0, nc_ = 0;
+  std::vector<int> pt_ptr_, pt_obs_;    // observations of point j in camera order
+  std::vector<int> cam_ptr_, cam_obs_;  // observations of camera i in point order
+  std::vector<std::ptrdiff_t> w_off_;   // per observation: offset of W_ij in H's values
+  std::vector<char> w_first_;           // the observation is the first of its (i, j) pair
+  BlockSparseMatrix hessian_;
+  Eigen::VectorXd g_, diag_, damping_;
+  bool damped_ = false;
+  // F_ijᵀ (9×2) and r_ij per observation, after the kernel, in camera order (slot cam_slot_[k]).
+  std::vector<double> ft_, r_cam_;
+  std::vector<int> cam_slot_;
+  mutable std::vector<Eigen::Matrix3d> rot_;
+  mutable std::vector<double> chunk_cost_;
+};
+
+/// Levenberg-Marquardt on a BAL problem with BalNormalEquations and SchurComplementSolver
+/// (points eliminated): the Optimizer's LM (Nielsen's λ update, D = clamped diag(H), the same
+/// tolerances, trace, callback and Summary) without its generic factor-graph machinery.
+/// Candidates are evaluated without Jacobians; H is rebuilt only at accepted points.
+/// options.algorithm must be kLevenbergMarquardt. x is updated in place.
+Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& x, const OptimizerOptions& options,
+                                         std::shared_ptr<const RobustKernel> kernel = nullptr);
+
+}  // namespace slamkit
