@@ -203,7 +203,24 @@ std::vector<int> associate_landmarks(const std::vector<RangeBearing>& obs, const
   std::vector<Eigen::Matrix<double, 2, 5>> jac;  // [H_x H_m] per prediction
   if (o.method == AssociationMethod::kKnown) {
     for (int id : ids) pred.push_back({id, {}, {}});
-    return associate(obs, pred, o);
+    std::vector<int> result = associate(obs, pred, o);
+    if (o.known_gate_probability <= 0) return result;
+    const double gate = chi2_quantile(o.known_gate_probability, 2);
+    std::unordered_map<int, std::size_t> index;
+    for (std::size_t k = 0; k < ids.size(); ++k) index[ids[k]] = k;
+    for (std::size_t i = 0; i < obs.size(); ++i) {
+      if (result[i] < 0) continue;
+      const Eigen::Vector2d& m = means[index.at(result[i])];
+      Eigen::Matrix<double, 2, 3> H_x;
+      Eigen::Matrix2d H_m;
+      sensor.jacobians(pose, m, &H_x, &H_m);
+      Eigen::Matrix<double, 2, 5> H;
+      H << H_x, H_m;
+      const Eigen::Matrix2d S = H * covariance({result[i]}) * H.transpose() + sensor.noise();
+      const Eigen::Vector2d nu = RangeBearingModel::innovation(obs[i], sensor.predict(pose, m));
+      if (mahalanobis2(nu, S) > gate) result[i] = kRejectedObservation;
+    }
+    return result;
   }
   const Eigen::Matrix2d R = sensor.noise();
   for (std::size_t k = 0; k < ids.size(); ++k) {

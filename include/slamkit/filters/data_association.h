@@ -37,6 +37,9 @@ struct AssociationOptions {
   double jcbb_probability = 0.99;        // joint χ²_{2k} gate
   long jcbb_max_nodes = 200000;          // search budget; the best hypothesis so far is kept
   double candidate_range = 0;            // > 0: only landmarks predicted within this range
+  /// known: > 0 rejects a sighting of a mapped landmark whose d² = νᵀS⁻¹ν exceeds χ²₂(this)
+  /// (misread ids, reflections); 0 accepts every sighting as given. Gaussian filters only.
+  double known_gate_probability = 0;
 };
 
 /// Result codes besides a landmark id (≥ 0).
