@@ -1,5 +1,5 @@
-// P2 at scale: SEIF with the standard rule vs SEIF with P2's entropy rule (EKF as the
-// reference) on the Bailey webmap and densemap worlds, 30 Monte-Carlo runs each (seeds 1..30,
+// P2 at scale: SEIF with the standard rule vs SEIF with P2's entropy rule (EKF and FastSLAM 2.0
+// with 100 particles as the references) on the Bailey webmap and densemap worlds, 30 Monte-Carlo runs each (seeds 1..30,
 // the same noise for every filter), active bounds A ∈ {2,4,6,8} (webmap), {4,6,10,15}
 // (densemap). Writes bench/results/filters_p2.json, filters_p2.md and one SVG per world.
 //   filter_p2_bench [--runs N] [--threads T] [--out DIR] [--worlds webmap,densemap]
@@ -40,12 +40,13 @@ int main(int argc, char** argv) {
   fo.motion = std::make_shared<BicycleModel>(sim.wheelbase, sim.sigma_v, sim.sigma_steer);
   fo.sensor = RangeBearingModel(sim.sigma_range, sim.sigma_bearing);
   nlohmann::json doc;
-  doc["what"] = "P2 at scale: SEIF standard rule vs entropy rule, EKF reference; known association";
+  doc["what"] = "P2 at scale: SEIF standard rule vs entropy rule, EKF and FastSLAM 2.0 (100 particles) references; known association";
+  doc["particles"] = fo.particles;
   doc["runs"] = runs;
   doc["seeds"] = {1, runs};
   doc["rmse_heading_unit"] = "deg";
   std::ostringstream md;
-  md << "# P2 at scale: SEIF vs entropy-SEIF (EKF reference)\n\n" << runs
+  md << "# P2 at scale: SEIF vs entropy-SEIF (EKF and FastSLAM 2.0 references)\n\n" << runs
      << " Monte-Carlo runs per row (seeds 1.." << runs << ", identical noise for every filter), known association, "
         "Bailey simulator defaults. ANEES: mean over time of the pose NEES averaged over the runs; 95% bounds ["
      << "see JSON]. RMSE over all runs and observation steps.\n\n";
@@ -93,6 +94,11 @@ int main(int argc, char** argv) {
                   ekf.rmse_position_total, ekf.rmse_heading_total * 57.29577951308232, ekf.anees_mean,
                   100 * ekf.fraction_in_bounds, ekf.anis, ekf.map_nees);
     md << line;
+    const ConsistencySummary fs2 = run("fastslam2", 0);
+    std::snprintf(line, sizeof line, "| FastSLAM 2.0, %d particles (reference) | – | %.3f | %.3f | %.2f | %.1f%% | %.2f | %.2f |\n",
+                  fo.particles, fs2.rmse_position_total, fs2.rmse_heading_total * 57.29577951308232, fs2.anees_mean,
+                  100 * fs2.fraction_in_bounds, fs2.anis, fs2.map_nees);
+    md << line;
     std::vector<double> A, rmse_std, rmse_ent, anees_std, anees_ent;
     for (int active : bounds.at(world)) {
       const ConsistencySummary a = run("seif", active), b = run("seif-entropy", active);
@@ -128,22 +134,24 @@ int main(int argc, char** argv) {
     pr.add_series(series("SEIF (standard rule)", A, rmse_std, palette(0)));
     pr.add_series(series("entropy-SEIF (P2)", A, rmse_ent, palette(1)));
     pr.add_hline(ekf.rmse_position_total, "EKF", palette(2));
+    pr.add_hline(fs2.rmse_position_total, "FastSLAM 2.0", palette(4));
     Plot pa("ANEES vs active bound: " + world, "active bound A", "ANEES (log scale)");
     pa.set_log_y(true);
     pa.add_band(ekf.anees_lo, ekf.anees_hi, "95% bounds", Rgb{60, 160, 60}, 0.18);
     pa.add_series(series("SEIF (standard rule)", A, anees_std, palette(0)));
     pa.add_series(series("entropy-SEIF (P2)", A, anees_ent, palette(1)));
     pa.add_hline(ekf.anees_mean, "EKF", palette(2));
+    pa.add_hline(fs2.anees_mean, "FastSLAM 2.0", palette(4));
     const int mid = bounds.at(world)[1];
     const std::string ks = "seif A=" + std::to_string(mid), ke = "seif-entropy A=" + std::to_string(mid);
     SvgWriter svg(1240, 940);
     svg.embed(pr.render(620, 460), 0, 0);
     svg.embed(pa.render(620, 460), 620, 0);
-    svg.embed(plot_anees({{"EKF", &ekf}, {"SEIF A=" + std::to_string(mid), &keep[ks]},
+    svg.embed(plot_anees({{"EKF", &ekf}, {"FastSLAM 2.0", &fs2}, {"SEIF A=" + std::to_string(mid), &keep[ks]},
                           {"entropy-SEIF A=" + std::to_string(mid), &keep[ke]}},
                          "ANEES over time: " + world, 620, 460),
               0, 470);
-    svg.embed(plot_rmse({{"EKF", &ekf}, {"SEIF A=" + std::to_string(mid), &keep[ks]},
+    svg.embed(plot_rmse({{"EKF", &ekf}, {"FastSLAM 2.0", &fs2}, {"SEIF A=" + std::to_string(mid), &keep[ks]},
                          {"entropy-SEIF A=" + std::to_string(mid), &keep[ke]}},
                         "position RMSE over time: " + world, 620, 460),
               620, 470);

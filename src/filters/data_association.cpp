@@ -59,27 +59,10 @@ void mark_unpaired(const Candidates& c, const AssociationOptions& o, std::vector
 std::vector<int> nearest_neighbour(const std::vector<RangeBearing>& obs, const std::vector<PredictedMeasurement>& pred,
                                    const AssociationOptions& o) {
   const Candidates c = distances(obs, pred);
-  const double gate = chi2_quantile(o.gate_probability, 2);
-  struct Pair {
-    double d2;
-    int i, j;
-  };
-  std::vector<Pair> pairs;
+  std::vector<std::vector<std::pair<int, double>>> candidates(obs.size());
   for (std::size_t i = 0; i < obs.size(); ++i)
-    for (std::size_t j = 0; j < pred.size(); ++j)
-      if (c.d2[i][j] <= gate) pairs.push_back({c.d2[i][j], int(i), int(j)});
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-    return a.d2 != b.d2 ? a.d2 < b.d2 : (a.i != b.i ? a.i < b.i : a.j < b.j);
-  });
-  std::vector<int> result(obs.size(), kRejectedObservation);
-  std::vector<char> used(pred.size(), 0);
-  for (const Pair& p : pairs)
-    if (result[p.i] == kRejectedObservation && !used[p.j]) {
-      result[p.i] = pred[p.j].landmark_id;
-      used[p.j] = 1;
-    }
-  mark_unpaired(c, o, &result);
-  return result;
+    for (std::size_t j = 0; j < pred.size(); ++j) candidates[i].emplace_back(pred[j].landmark_id, c.d2[i][j]);
+  return nearest_neighbour_from_distances(candidates, chi2_quantile(o.gate_probability, 2), o.new_landmark_distance2);
 }
 
 class Jcbb {
@@ -168,6 +151,35 @@ class Jcbb {
 
 }  // namespace
 
+std::vector<int> nearest_neighbour_from_distances(const std::vector<std::vector<std::pair<int, double>>>& candidates,
+                                                  double gate_distance2, double new_landmark_distance2) {
+  struct Pair {
+    double d2;
+    int i, id;
+  };
+  std::vector<Pair> pairs;
+  std::vector<double> min_d2(candidates.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    for (const auto& [id, d2] : candidates[i]) {
+      if (d2 <= gate_distance2) pairs.push_back({d2, int(i), id});
+      min_d2[i] = std::min(min_d2[i], d2);
+    }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+    return a.d2 != b.d2 ? a.d2 < b.d2 : (a.i != b.i ? a.i < b.i : a.id < b.id);
+  });
+  std::vector<int> result(candidates.size(), kRejectedObservation);
+  std::vector<int> used;  // a scan matches few landmarks: a short list
+  for (const Pair& p : pairs)
+    if (result[p.i] == kRejectedObservation && std::find(used.begin(), used.end(), p.id) == used.end()) {
+      result[p.i] = p.id;
+      used.push_back(p.id);
+    }
+  // Unmatched: a new landmark when far from every candidate, else rejected (ambiguous).
+  for (std::size_t i = 0; i < result.size(); ++i)
+    if (result[i] == kRejectedObservation && min_d2[i] >= new_landmark_distance2) result[i] = kNewLandmark;
+  return result;
+}
+
 std::vector<int> associate(const std::vector<RangeBearing>& obs, const std::vector<PredictedMeasurement>& pred,
                            const AssociationOptions& o, const JointInnovationFn& joint) {
   switch (o.method) {
@@ -203,7 +215,24 @@ std::vector<int> associate_landmarks(const std::vector<RangeBearing>& obs, const
   std::vector<Eigen::Matrix<double, 2, 5>> jac;  // [H_x H_m] per prediction
   if (o.method == AssociationMethod::kKnown) {
     for (int id : ids) pred.push_back({id, {}, {}});
-    return associate(obs, pred, o);
+    std::vector<int> result = associate(obs, pred, o);
+    if (o.known_gate_probability <= 0) return result;
+    const double gate = chi2_quantile(o.known_gate_probability, 2);
+    std::unordered_map<int, std::size_t> index;
+    for (std::size_t k = 0; k < ids.size(); ++k) index[ids[k]] = k;
+    for (std::size_t i = 0; i < obs.size(); ++i) {
+      if (result[i] < 0) continue;
+      const Eigen::Vector2d& m = means[index.at(result[i])];
+      Eigen::Matrix<double, 2, 3> H_x;
+      Eigen::Matrix2d H_m;
+      sensor.jacobians(pose, m, &H_x, &H_m);
+      Eigen::Matrix<double, 2, 5> H;
+      H << H_x, H_m;
+      const Eigen::Matrix2d S = H * covariance({result[i]}) * H.transpose() + sensor.noise();
+      const Eigen::Vector2d nu = RangeBearingModel::innovation(obs[i], sensor.predict(pose, m));
+      if (mahalanobis2(nu, S) > gate) result[i] = kRejectedObservation;
+    }
+    return result;
   }
   const Eigen::Matrix2d R = sensor.noise();
   for (std::size_t k = 0; k < ids.size(); ++k) {

@@ -15,16 +15,9 @@ Eif::Eif(LandmarkFilterOptions options) : o_(std::move(options)) {
   xi_ = Omega_ * mu_;
 }
 
-int Eif::slot(int id) const {
-  const auto it = index_.find(id);
-  return it == index_.end() ? -1 : 3 + 2 * it->second;
-}
+int Eif::slot(int id) const { return filters_detail::dense_slot(index_, id); }
 
-Eigen::Vector3d Eif::pose() const {
-  Eigen::Vector3d p = mu_.head<3>();
-  p.z() = wrap_angle(p.z());
-  return p;
-}
+Eigen::Vector3d Eif::pose() const { return filters_detail::wrapped_pose(mu_); }
 
 const Eigen::MatrixXd& Eif::covariance() const {
   if (!sigma_valid_) {

@@ -14,16 +14,9 @@ EkfSlam::EkfSlam(LandmarkFilterOptions options) : o_(std::move(options)) {
   P_ = o_.initial_sigma.cwiseAbs2().asDiagonal();
 }
 
-int EkfSlam::slot(int id) const {
-  const auto it = index_.find(id);
-  return it == index_.end() ? -1 : 3 + 2 * it->second;
-}
+int EkfSlam::slot(int id) const { return filters_detail::dense_slot(index_, id); }
 
-Eigen::Vector3d EkfSlam::pose() const {
-  Eigen::Vector3d p = mu_.head<3>();
-  p.z() = wrap_angle(p.z());
-  return p;
-}
+Eigen::Vector3d EkfSlam::pose() const { return filters_detail::wrapped_pose(mu_); }
 
 void EkfSlam::predict(const Control& u) {
   filters_detail::check_control(u, "ekf");
@@ -85,11 +78,14 @@ void EkfSlam::update(const std::vector<RangeBearing>& z) {
     stats_.nis_dof = 2 * k;
     mu_ += K * nu;
     mu_(2) = wrap_angle(mu_(2));
-    // Joseph form: A = (I − K H) P, then P = A (I − K H)ᵀ + K R Kᵀ.
-    const Eigen::MatrixXd A = P_ - K * PHt.transpose();
-    Eigen::MatrixXd P = A - times_Ht(A) * K.transpose();
-    for (int a = 0; a < k; ++a) P.noalias() += K.middleCols<2>(2 * a) * o_.sensor.noise() * K.middleCols<2>(2 * a).transpose();
-    P_ = 0.5 * (P + P.transpose());
+    // Joseph form (I − K H) P (I − K H)ᵀ + K R Kᵀ = P − K Bᵀ − B Kᵀ + K S Kᵀ with B = P Hᵀ,
+    // S = H P Hᵀ + R (exact for any gain K). With M = B − ½ K S it is the symmetric rank-4k
+    // update P − K Mᵀ − M Kᵀ: done in place on the lower triangle (no n × n temporary), then
+    // mirrored, so P stays exactly symmetric.
+    const Eigen::MatrixXd M = PHt - 0.5 * K * S;
+    P_.triangularView<Eigen::Lower>() -= K * M.transpose();
+    P_.triangularView<Eigen::Lower>() -= M * K.transpose();
+    P_.triangularView<Eigen::StrictlyUpper>() = P_.transpose();
     (void)N;
   }
   for (std::size_t i = 0; i < z.size(); ++i) {

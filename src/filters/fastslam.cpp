@@ -90,30 +90,8 @@ std::vector<int> resample_indices(const std::vector<double>& w, ResamplingScheme
 
 std::vector<int> fastslam_associate(const std::vector<std::vector<std::pair<int, double>>>& candidates,
                                     double gate_distance2, double new_landmark_distance2) {
-  struct Pair {
-    double d2;
-    int obs, id;
-  };
-  std::vector<Pair> pairs;
-  std::vector<int> out(candidates.size(), kFastSlamNew);
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    for (const auto& [id, d2] : candidates[i]) {
-      if (d2 <= gate_distance2) pairs.push_back({d2, static_cast<int>(i), id});
-      if (d2 <= new_landmark_distance2) out[i] = kFastSlamRejected;  // too close to start a new one
-    }
-  }
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-    return a.d2 < b.d2 || (a.d2 == b.d2 && (a.obs < b.obs || (a.obs == b.obs && a.id < b.id)));
-  });
-  std::vector<char> matched(candidates.size(), 0);
-  std::vector<int> used;
-  for (const Pair& p : pairs) {
-    if (matched[p.obs] || std::find(used.begin(), used.end(), p.id) != used.end()) continue;
-    matched[p.obs] = 1;
-    used.push_back(p.id);
-    out[p.obs] = p.id;
-  }
-  return out;
+  static_assert(kFastSlamNew == kNewLandmark && kFastSlamRejected == kRejectedObservation, "same result codes");
+  return nearest_neighbour_from_distances(candidates, gate_distance2, new_landmark_distance2);
 }
 
 FastSlam::FastSlam(std::shared_ptr<const MotionModel> motion, const RangeBearingModel& sensor,

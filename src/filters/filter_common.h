@@ -6,6 +6,7 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "slamkit/core/error.h"
@@ -100,6 +101,19 @@ inline InformationFactor new_landmark_factor(const RangeBearingModel& sensor, co
   f.V = (Gz * sensor.noise() * Gz.transpose()).inverse();
   f.y = *m0 - Gx * mu_x;
   return f;
+}
+
+/// Row of landmark `id` in a dense state [pose; landmark 0; landmark 1; ...] (3 + 2k), or −1.
+inline int dense_slot(const std::unordered_map<int, int>& index, int id) {
+  const auto it = index.find(id);
+  return it == index.end() ? -1 : 3 + 2 * it->second;
+}
+
+/// The pose part of a dense mean with its heading wrapped.
+inline Eigen::Vector3d wrapped_pose(const Eigen::VectorXd& mu) {
+  Eigen::Vector3d p = mu.head<3>();
+  p.z() = wrap_angle(p.z());
+  return p;
 }
 
 inline void check_filter_options(const LandmarkFilterOptions& o, const char* filter) {

@@ -185,9 +185,19 @@ void Seif::update(const std::vector<RangeBearing>& z) {
   ++scan_;
   observed_now_.clear();
   if (z.empty()) return;
+  // Candidates: under known association only the mapped landmarks this scan names (a step must
+  // not touch all n landmarks); nn and JCBB consider the whole map.
   std::vector<int> ids;
   std::vector<Eigen::Vector2d> means;
-  for (const Landmark& l : lm_) ids.push_back(l.id), means.push_back(l.mu);
+  if (o_.association.method == AssociationMethod::kKnown) {
+    for (const RangeBearing& o : z) {
+      const auto it = index_.find(o.id);
+      if (it != index_.end() && std::find(ids.begin(), ids.end(), o.id) == ids.end())
+        ids.push_back(o.id), means.push_back(lm_[it->second].mu);
+    }
+  } else {
+    for (const Landmark& l : lm_) ids.push_back(l.id), means.push_back(l.mu);
+  }
   const std::vector<int> assoc = associate_landmarks(
       z, pose(), ids, means, [this](const std::vector<int>& q) { return local_covariance(q, true); }, o_.sensor,
       o_.association);

@@ -5,11 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <Eigen/LU>
+#include <random>
 #include <set>
 
 #include "filter_test_util.h"
 #include "slamkit/core/error.h"
+#include "slamkit/filters/chi_square.h"
 #include "slamkit/filters/ekf_slam.h"
+#include "slamkit/filters/fastslam.h"
 
 namespace slamkit {
 namespace {
@@ -50,6 +54,38 @@ TEST(DataAssociation, EachLandmarkAtMostOnceAndKnownIds) {
   EXPECT_EQ(associate({{1, 3, 0}, {5, 3, 0}}, pred, o), (std::vector<int>{1, kNewLandmark}));
   EXPECT_THROW(associate({{-1, 3, 0}}, pred, o), InputError);
   EXPECT_THROW(parse_association_method("nearest"), InputError);
+}
+
+// FastSLAM's per-particle association and the Gaussian filters' nn share one core: on random
+// scenes associate() (nn) and fastslam_associate give the same answer as the core itself.
+TEST(DataAssociation, FastSlamAndNearestNeighbourShareOneCore) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> r(1, 30), b(-kPi, kPi), off(-1.5, 1.5);
+  AssociationOptions o;
+  o.method = AssociationMethod::kNearestNeighbour;
+  const double gate = chi2_quantile(o.gate_probability, 2);
+  int matched = 0, fresh = 0, rejected = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<PredictedMeasurement> pred;
+    std::vector<RangeBearing> obs;
+    for (int j = 0; j < 6; ++j) pred.push_back(predicted(100 + 3 * j, r(rng), b(rng), 0.3, 0.05));
+    for (int i = 0; i < 5; ++i) {
+      const auto& p = pred[(i * 5 + trial) % 4];  // some landmarks twice: one is left over
+      obs.push_back({-1, p.z.x() + off(rng), p.z.y() + 0.2 * off(rng)});
+    }
+    std::vector<std::vector<std::pair<int, double>>> cand(obs.size());
+    for (std::size_t i = 0; i < obs.size(); ++i)
+      for (const auto& p : pred) {
+        const Eigen::Vector2d nu = RangeBearingModel::innovation(obs[i], p.z);
+        cand[i].emplace_back(p.landmark_id, nu.dot(p.S.inverse() * nu));
+      }
+    const std::vector<int> core = nearest_neighbour_from_distances(cand, gate, o.new_landmark_distance2);
+    EXPECT_EQ(associate(obs, pred, o), core);
+    EXPECT_EQ(fastslam_associate(cand, gate, o.new_landmark_distance2), core);
+    for (int a : core) matched += a >= 0, fresh += a == kNewLandmark, rejected += a == kRejectedObservation;
+  }
+  EXPECT_GT(matched, 0);  // the scenes exercise every outcome
+  EXPECT_GT(fresh + rejected, 0);
 }
 
 TEST(DataAssociation, JcbbUsesTheCorrelationGreedyNearestNeighbourIgnores) {

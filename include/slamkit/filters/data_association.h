@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "slamkit/filters/models.h"
@@ -37,6 +38,9 @@ struct AssociationOptions {
   double jcbb_probability = 0.99;        // joint χ²_{2k} gate
   long jcbb_max_nodes = 200000;          // search budget; the best hypothesis so far is kept
   double candidate_range = 0;            // > 0: only landmarks predicted within this range
+  /// known: > 0 rejects a sighting of a mapped landmark whose d² = νᵀS⁻¹ν exceeds χ²₂(this)
+  /// (misread ids, reflections); 0 accepts every sighting as given. Gaussian filters only.
+  double known_gate_probability = 0;
 };
 
 /// Result codes besides a landmark id (≥ 0).
@@ -53,6 +57,14 @@ struct PredictedMeasurement {
 /// Joint innovation covariance (2k × 2k) of the listed predicted measurements (indices into
 /// the predicted vector, distinct). Empty function: block diagonal of their S.
 using JointInnovationFn = std::function<Eigen::MatrixXd(const std::vector<int>& predicted_indices)>;
+
+/// Gated nearest neighbour on precomputed squared Mahalanobis distances (the core of kNearestNeighbour,
+/// shared with FastSLAM's per-particle association): candidates[i] lists (landmark id, d²) of
+/// observation i. Pairs with d² ≤ gate_distance2 are matched closest first, each landmark at
+/// most once; an unmatched observation is kNewLandmark when every candidate has
+/// d² ≥ new_landmark_distance2, else kRejectedObservation.
+std::vector<int> nearest_neighbour_from_distances(const std::vector<std::vector<std::pair<int, double>>>& candidates,
+                                                  double gate_distance2, double new_landmark_distance2);
 
 /// One entry per observation: a landmark id, kNewLandmark or kRejectedObservation.
 /// Under kKnown, `predicted` needs only the ids of the landmarks in the map.
