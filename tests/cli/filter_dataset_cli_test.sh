@@ -6,8 +6,7 @@
 # need no data; the MRCLAM part exits 77 (skipped) without the datasets, 1 under CI=true.
 set -uo pipefail
 slamkit=$1
-data=${SLAMKIT_DATA:-$2/../shared/datasets}
-[[ $data = /* ]] || data=$2/$data  # a relative SLAMKIT_DATA is relative to the source tree
+source "$(dirname "$0")/dataset.sh" "$2"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -32,8 +31,8 @@ printf '0 0 0\n' >"$work/vp/vp_gps.txt"
 grep -q "vp_odometry.txt:3" "$work/out.txt" || fail "malformed odometry: no file:line in $(cat "$work/out.txt")"
 
 # 2. MRCLAM robot 2, the whole sequence.
+require_data landmark/MRCLAM_Dataset7
 mrclam=$data/landmark/MRCLAM_Dataset7
-[[ -f "$mrclam/Robot2_Odometry.dat" ]] || { echo "SKIPPED: no MRCLAM at $mrclam"; [[ "${CI:-}" == true ]] && exit 1; exit 77; }
 for alg in ekf fastslam2; do
   "$slamkit" filter --algorithm "$alg" --dataset "mrclam:$mrclam:2" --particles 30 --json "$work/$alg.json" \
     --plot "$work/$alg.svg" --trajectory "$work/$alg.tum" >"$work/$alg.txt" 2>&1 || fail "$alg on MRCLAM failed: $(cat "$work/$alg.txt")"

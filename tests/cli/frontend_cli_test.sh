@@ -6,10 +6,9 @@
 # reported, handled condition). Exit 77 (skipped) without the datasets, failure under CI=true.
 set -uo pipefail
 slamkit=$1
-data=${SLAMKIT_DATA:-$2/../shared/datasets}
-[[ $data = /* ]] || data=$2/$data  # a relative SLAMKIT_DATA is relative to the source tree
+source "$(dirname "$0")/dataset.sh" "$2"
+require_data vio/dynamic_video
 video_dir=$data/vio/dynamic_video
-[[ -f "$video_dir/aloeL.jpg" ]] || { echo "SKIPPED: no datasets at $video_dir"; [[ "${CI:-}" == true ]] && exit 1; exit 77; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }

@@ -6,12 +6,8 @@
 set -uo pipefail
 slamkit=$1
 root=$2
-data=${SLAMKIT_DATA:-$root/../shared/datasets}
-[[ $data = /* ]] || data=$root/$data
-if [[ ! -d $data/vio ]]; then
-  [[ ${CI:-} == true ]] && { echo "FAIL: datasets missing under CI: $data"; exit 1; }
-  echo "SKIPPED: datasets not found: $data (set SLAMKIT_DATA)"; exit 77
-fi
+source "$root/tests/cli/dataset.sh" "$root"
+require_data vio
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
