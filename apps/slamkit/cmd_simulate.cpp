@@ -9,15 +9,14 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
 #include "commands.h"
 #include "slamkit/eval/svg.h"
-#include "slamkit/io/kalibr_calibration.h"
 #include "slamkit/io/trajectory_io.h"
+#include "slamkit/io/visual_inertial_sequence_io.h"
 #include "slamkit/io/visual_inertial_sim_io.h"
 #include "slamkit/sim/image_renderer.h"
 #include "slamkit/sim/visual_inertial_sim.h"
@@ -34,41 +33,6 @@ struct SimulateArgs {
   int threads = 0;
   double duration = 0.0, knot_spacing = 0.1;
 };
-
-// Where a named path and its sensors come from, in ../shared/datasets/vio.
-struct SimSource {
-  fs::path path, camchain, imu;
-  double mask_radius = 0.0;
-};
-
-fs::path data_root(const std::string& option) {
-  if (!option.empty()) return option;
-  const char* env = std::getenv("SLAMKIT_DATA");
-  return env && *env ? fs::path(env) : fs::path("../shared/datasets");
-}
-
-SimSource resolve(const std::string& spec, const fs::path& root) {
-  const fs::path vio = root / "vio";
-  const fs::path tumvi_chain = vio / "tumvi/calib/openvins_kalibr_imucam_chain.yaml";
-  const fs::path tumvi_imu = vio / "tumvi/calib/openvins_kalibr_imu_chain.yaml";
-  // The TUM-VI cam0 mask (openvins_mask_tumvi0.png) hides pixels beyond 304–310 px from the
-  // principal point; 300 px keeps features off its border.
-  constexpr double kTumViMask = 300.0;
-  static const std::map<std::string, std::string> rooms = {
-      {"room1", "dataset-room1_512_16.csv"}, {"room2", "dataset-room2_512_16.csv"},
-      {"room3", "dataset-room3_512_16.csv"}, {"room4", "dataset-room4_512_16.csv"}};
-  static const std::map<std::string, std::string> euroc = {{"euroc:V1_01", "V1_01_easy_gt_20hz.csv"},
-                                                           {"euroc:V1_02", "V1_02_medium_gt.csv"},
-                                                           {"euroc:V2_03", "V2_03_difficult_gt.csv"}};
-  if (const auto it = rooms.find(spec); it != rooms.end())
-    return {vio / "tumvi/gt" / it->second, tumvi_chain, tumvi_imu, kTumViMask};
-  if (const auto it = euroc.find(spec); it != euroc.end())
-    return {vio / "euroc/gt" / it->second, vio / "euroc/calib/openvins_kalibr_imucam_chain.yaml",
-            vio / "euroc/calib/openvins_kalibr_imu_chain.yaml", 0.0};
-  if (spec.rfind("euroc:", 0) == 0 || (spec.rfind("room", 0) == 0 && !fs::exists(spec)))
-    throw InputError("", 0, "vi", "unknown sequence '" + spec + "' (room1..room4, euroc:V1_01, euroc:V1_02, euroc:V2_03 or a trajectory file)");
-  return {spec, tumvi_chain, tumvi_imu, kTumViMask};
-}
 
 // Top view (x–y) of the room: walls as the box outline, static landmarks, the path and the
 // moving groups' walks.
@@ -115,13 +79,13 @@ void write_plot(const VisualInertialSim& sim, const std::string& path) {
 // Renders every frame of the run into an EuRoC/ASL folder, with a progress line; returns the
 // rendering time per frame [ms] (without PNG writing) and the total time [s].
 std::pair<double, double> render_images(const VisualInertialSim& sim, const BSplineTrajectory& spline,
-                                        const VisualInertialSimOptions& opt, const SimSource& src, int threads,
+                                        const VisualInertialSimOptions& opt, const VisualInertialSequence& src, int threads,
                                         ImageSequenceWriter* writer) {
   const Stopwatch clock;
   const RenderedScene scene = build_rendered_scene(sim, spline, opt);
   ImageRendererOptions ro;
   ro.seed = opt.seed;
-  ro.mask_radius_px = src.mask_radius;
+  ro.mask_radius_px = src.mask_radius_px;
   const ImageRenderer renderer(scene, *sim.camera, ro);
   const ThreadPool pool(threads);
   std::cerr << "simulate: rendering " << sim.frames.size() << " frames (" << renderer.width() << "x" << renderer.height()
@@ -165,30 +129,20 @@ void run(const SimulateArgs& a) {
   opt.seed = a.seed;
   opt.dynamic = parse_dynamic_level(a.dynamic);
   opt.duration = a.duration;
-  const SimSource src = resolve(a.vi, data_root(a.data));
   std::unique_ptr<ImageSequenceWriter> writer;
   if (!a.images.empty()) writer = std::make_unique<ImageSequenceWriter>(a.images);  // fails before any work
-  const CameraCalibration cam = read_kalibr_camchain(src.camchain.string()).at(0);
-  const ImuCalibration imu = read_kalibr_imu(src.imu.string());
-  opt.imu_noise = ImuNoiseDensities{imu.gyroscope_noise_density, imu.gyroscope_random_walk,
-                                    imu.accelerometer_noise_density, imu.accelerometer_random_walk};
-  opt.imu_rate = imu.update_rate;
-  opt.mask_radius_px = src.mask_radius;
-  std::cerr << "simulate: fitting a cubic B-spline (knots every " << a.knot_spacing << " s) to " << src.path.string() << "\n";
-  const Trajectory path = read_trajectory(src.path.string());
-  BSplineFitOptions fit_opt;
-  fit_opt.knot_spacing = a.knot_spacing;
-  BSplineFitReport fit;
-  const BSplineTrajectory spline = BSplineTrajectory::fit(path, fit_opt, &fit);
-  std::cerr << "simulate: " << fit.samples << " poses, " << fit.control_points << " control points, fit RMSE "
-            << 1e3 * fit.position_rmse << " mm / " << fit.rotation_rmse * 180 / M_PI << " deg; simulating "
-            << cam.name << " (" << cam.distortion_model << ") and the IMU\n";
-  VisualInertialSim sim = simulate_visual_inertial(spline, cam.model, cam.T_cam_imu, opt);
-  sim.source = a.vi;
+  std::cerr << "simulate: fitting a cubic B-spline (knots every " << a.knot_spacing << " s) to the path of " << a.vi
+            << " and simulating the camera and the IMU\n";
+  const SequenceSimulation run = simulate_visual_inertial_sequence(a.vi, a.data, opt, a.knot_spacing);
+  const VisualInertialSim& sim = run.sim;
+  const BSplineFitReport& fit = run.fit;
+  std::cerr << "simulate: " << run.sequence.trajectory.string() << ": " << fit.samples << " poses, " << fit.control_points
+            << " control points, fit RMSE " << 1e3 * fit.position_rmse << " mm / " << fit.rotation_rmse * 180 / M_PI
+            << " deg; " << run.camera_name << " (" << run.distortion_model << ")\n";
   const SimSummary s = summarize(sim);
   if (!a.output.empty()) write_visual_inertial_sim(a.output, sim);
   std::pair<double, double> render_time{0.0, 0.0};
-  if (writer) render_time = render_images(sim, spline, opt, src, a.threads, writer.get());
+  if (writer) render_time = render_images(sim, *run.spline, run.options, run.sequence, a.threads, writer.get());
   if (!a.truth.empty()) {
     Trajectory truth;
     for (const SimFrame& f : sim.frames) {
@@ -224,12 +178,12 @@ void run(const SimulateArgs& a) {
     j["kind"] = "simulate";
     j["schema"] = 1;
     j["source"] = a.vi;
-    j["path"] = src.path.string();
+    j["path"] = run.sequence.trajectory.string();
     j["output"] = a.output;
     j["seed"] = a.seed;
     j["dynamic"] = a.dynamic;
-    j["camera"] = {{"model", cam.distortion_model}, {"width", cam.width}, {"height", cam.height},
-                   {"mask_radius_px", src.mask_radius}};
+    j["camera"] = {{"model", run.distortion_model}, {"width", run.width}, {"height", run.height},
+                   {"mask_radius_px", run.sequence.mask_radius_px}};
     j["duration_s"] = s.duration;
     j["frames"] = s.frames;
     j["imu_samples"] = s.imu_samples;

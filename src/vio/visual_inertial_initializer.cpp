@@ -155,4 +155,43 @@ InitializerResult initialize_visual_inertial(const InitializerInput& in, const I
   return res;
 }
 
+InitializerResult initialize_from_frames(const std::vector<CameraFrame>& frames, const std::vector<ImuMeasurement>& imu,
+                                         const CameraModel& camera, const SE3& T_imu_cam, const ImuNoise& noise,
+                                         const VisualSfmOptions& sfm_options, const InitializerOptions& options,
+                                         VisualSfmResult* sfm_out) {
+  InitializerResult res;
+  std::vector<std::vector<SfmObservation>> bearings(frames.size());
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    for (const FeatureObservation& f : frames[k].features) {
+      SfmObservation s;
+      s.track_id = f.track_id;
+      if (f.pixel.allFinite() && camera.unproject(f.pixel, &s.bearing)) bearings[k].push_back(s);
+    }
+  VisualSfmResult sfm = solve_visual_sfm(bearings, sfm_options);
+  if (sfm_out) *sfm_out = sfm;
+  if (!sfm.success) {
+    res.message = sfm.message;
+    return res;
+  }
+  if (imu.empty() || imu.front().stamp > frames.front().stamp || imu.back().stamp < frames.back().stamp) {
+    res.message = "initializer: the IMU does not cover the start-up window";
+    return res;
+  }
+  InitializerInput in;
+  in.p_imu_cam = T_imu_cam.translation();
+  const SO3 R_cam_imu = T_imu_cam.rotation().inverse();
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    in.R_c0_body.push_back(sfm.T_c0_cam[k].rotation() * R_cam_imu);
+    in.p_c0_cam.push_back(sfm.T_c0_cam[k].translation());
+    if (k + 1 < frames.size()) {
+      ImuPreintegration p(ImuBias{}, noise);
+      p.integrate_between(imu, frames[k].stamp, frames[k + 1].stamp);
+      in.imu.push_back(p);
+    }
+  }
+  res = initialize_visual_inertial(in, options);
+  if (res.success) res.message = sfm.message + "; " + res.message;
+  return res;
+}
+
 }  // namespace slamkit

@@ -11,7 +11,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
-"$slamkit" simulate --vi room1 --duration 6 --seed 2 -o "$work/r.sim" --data "$data" >/dev/null 2>&1 || fail "simulate failed"
+"$slamkit" simulate --vi room1 --duration 12 --seed 2 -o "$work/r.sim" --data "$data" >/dev/null 2>&1 || fail "simulate failed"
 "$slamkit" vio --sim "$work/r.sim" --json "$work/v.json" --trajectory "$work/v.tum" --plot "$work/v.svg" \
   >"$work/out.txt" 2>&1 || fail "vio exited non-zero: $(cat "$work/out.txt")"
 grep -q "frame .* solve .* marg" "$work/out.txt" || fail "no progress lines: $(cat "$work/out.txt")"
@@ -33,4 +33,30 @@ head -c 20000 "$work/r.sim" >"$work/cut.sim"
 "$slamkit" vio --sim "$work/cut.sim" >"$work/e2.txt" 2>&1
 [[ $? -eq 1 ]] || fail "truncated file did not exit 1: $(cat "$work/e2.txt")"
 grep -q "cut.sim" "$work/e2.txt" || fail "error does not name the file: $(cat "$work/e2.txt")"
+
+# A named sequence simulated in memory, started by the initializer (no ground truth).
+"$slamkit" vio --sim room1 --seed 3 --duration 12 --data "$data" --json "$work/n.json" >"$work/n.txt" 2>&1 \
+  || fail "vio --sim room1 exited non-zero: $(cat "$work/n.txt")"
+grep -q "start-up: visual-inertial initializer" "$work/n.txt" || fail "no start-up line: $(cat "$work/n.txt")"
+python3 - "$work/n.json" <<'PY' || fail "named-sequence JSON wrong"
+import json, sys, math
+j = json.load(open(sys.argv[1]))
+assert j["vio"]["source"] == "room1" and j["vio"]["seed"] == 3, j["vio"]
+i = j["initialization"]
+assert i["method"] == "visual-inertial initializer" and i["attempts"] >= 1, i
+assert 0 < j["initialized_at_s"] < 10 and math.isfinite(j["ate_rmse"]) and j["ate_rmse"] < 0.3, (j["initialized_at_s"], j["ate_rmse"])
+PY
+# An unknown name, a run too short to initialize, a calibration file without a needed field.
+"$slamkit" vio --sim room9 --data "$data" >"$work/e3.txt" 2>&1
+[[ $? -eq 1 ]] && grep -q "euroc:V1_01" "$work/e3.txt" || fail "unknown sequence: $(cat "$work/e3.txt")"
+"$slamkit" vio --sim room1 --duration 1.5 --data "$data" >"$work/e4.txt" 2>&1
+[[ $? -eq 1 ]] && grep -q "too short to initialize" "$work/e4.txt" || fail "short run: $(cat "$work/e4.txt")"
+mkdir -p "$work/d/vio/tumvi/calib"
+ln -s "$data/vio/tumvi/gt" "$work/d/vio/tumvi/gt"
+cp "$data/vio/tumvi/calib/openvins_kalibr_imucam_chain.yaml" "$work/d/vio/tumvi/calib/"
+grep -v "gyroscope_noise_density" "$data/vio/tumvi/calib/openvins_kalibr_imu_chain.yaml" \
+  >"$work/d/vio/tumvi/calib/openvins_kalibr_imu_chain.yaml"
+"$slamkit" vio --sim room1 --duration 3 --data "$work/d" >"$work/e5.txt" 2>&1
+[[ $? -eq 1 ]] && grep -q "openvins_kalibr_imu_chain.yaml" "$work/e5.txt" && grep -q "gyroscope_noise_density" "$work/e5.txt" \
+  || fail "calibration without a field: $(cat "$work/e5.txt")"
 echo "vio CLI ok"

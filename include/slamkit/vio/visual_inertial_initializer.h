@@ -19,6 +19,9 @@
 #include <vector>
 
 #include "slamkit/factors/imu_preintegration.h"
+#include "slamkit/geometry/camera_models.h"
+#include "slamkit/vio/sliding_window_estimator.h"
+#include "slamkit/vio/visual_sfm.h"
 
 namespace slamkit {
 
@@ -51,5 +54,14 @@ struct InitializerResult {
 };
 
 InitializerResult initialize_visual_inertial(const InitializerInput& input, const InitializerOptions& options = {});
+
+/// The whole start-up on a window of frames (pixels with track ids) and the IMU covering them:
+/// bearings through the camera model, visual SfM (vio/visual_sfm.h) for R_c0_body = R_c0_ck R_cb
+/// and p̄_c0_ck, the IMU preintegrated between consecutive frames (zero bias), then
+/// initialize_visual_inertial. `sfm` (optional) receives the SfM result.
+InitializerResult initialize_from_frames(const std::vector<CameraFrame>& frames, const std::vector<ImuMeasurement>& imu,
+                                         const CameraModel& camera, const SE3& T_imu_cam, const ImuNoise& noise,
+                                         const VisualSfmOptions& sfm_options = {},
+                                         const InitializerOptions& options = {}, VisualSfmResult* sfm = nullptr);
 
 }  // namespace slamkit
