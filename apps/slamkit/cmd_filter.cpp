@@ -72,6 +72,16 @@ void progress_bar(int done, int total) {
 nlohmann::json nullable(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 // --dataset: one run of the filter over a real event stream (eval/filter_dataset.h).
+// The run's name in reports, and the JSON fields every filter document starts with.
+std::string run_label(const FilterCliOptions& o) {
+  if (!o.label.empty()) return o.label;
+  return o.algorithm + (o.algorithm.rfind("seif", 0) == 0 ? " A=" + std::to_string(o.active) : "");
+}
+nlohmann::json filter_json_head(const FilterCliOptions& o) {
+  return {{"kind", "filter"}, {"schema", 1}, {"label", run_label(o)}, {"algorithm", o.algorithm},
+          {"association", o.association}, {"seed", o.seed}, {"active", o.active}, {"particles", o.particles}};
+}
+
 void run_filter_on_dataset_command(const FilterCliOptions& o) {
   if (o.runs != 1) throw InputError("--runs", 0, "runs", "a dataset is one run: --runs must be 1 with --dataset");
   if (o.active < 1) throw InputError("--active", 0, "active", "must be >= 1");
@@ -121,21 +131,12 @@ void run_filter_on_dataset_command(const FilterCliOptions& o) {
   if (!r.run.finite) out << "  WARNING: a non-finite estimate or covariance occurred\n";
   out.unsetf(std::ios::floatfield);
 
-  const std::string label = o.label.empty() ? o.algorithm + (o.algorithm.rfind("seif", 0) == 0 ? " A=" + std::to_string(o.active) : "") : o.label;
   if (!o.json.empty()) {
-    nlohmann::json j;
-    j["kind"] = "filter";
-    j["schema"] = 1;
-    j["label"] = label;
-    j["algorithm"] = o.algorithm;
+    nlohmann::json j = filter_json_head(o);
     j["dataset"] = ds.name;
     j["dataset_spec"] = o.dataset;
     j["models"] = models.description;
-    j["association"] = o.association;
     j["runs"] = 1;
-    j["seed"] = o.seed;
-    j["active"] = o.active;
-    j["particles"] = o.particles;
     j["landmarks"] = r.landmarks;
     j["events"] = r.events;
     j["scans"] = r.scans;
@@ -159,7 +160,7 @@ void run_filter_on_dataset_command(const FilterCliOptions& o) {
     write_json(o.json, j);
   }
   if (!o.plot.empty())
-    write_file_atomically(o.plot, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + plot_dataset_run(label, r, ds).str(), "--plot");
+    write_file_atomically(o.plot, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + plot_dataset_run(run_label(o), r, ds).str(), "--plot");
   if (!o.trajectory.empty()) {
     std::string text = "# timestamp x y z qx qy qz qw  (slamkit filter " + o.algorithm + " on " + ds.name + ", at the scans)\n";
     for (std::size_t k = 0; k < r.run.time.size(); ++k) text += tum_line(r.run.time[k], r.run.estimate[k]);
@@ -223,20 +224,11 @@ void run_filter_command(const FilterCliOptions& o) {
   if (!s.finite) out << "  WARNING: a non-finite estimate or covariance occurred\n";
   out.unsetf(std::ios::floatfield);
 
-  const std::string label = o.label.empty() ? o.algorithm + (o.algorithm.rfind("seif", 0) == 0 ? " A=" + std::to_string(o.active) : "") : o.label;
   if (!o.json.empty()) {
-    nlohmann::json j;
-    j["kind"] = "filter";
-    j["schema"] = 1;
-    j["label"] = label;
-    j["algorithm"] = o.algorithm;
+    nlohmann::json j = filter_json_head(o);
     j["world"] = o.world;
     j["world_source"] = world_source;
-    j["association"] = o.association;
     j["runs"] = o.runs;
-    j["seed"] = o.seed;
-    j["active"] = o.active;
-    j["particles"] = o.particles;
     j["landmarks"] = s.landmarks;
     j["world_landmarks"] = map.landmarks.size();
     j["steps"] = runs.front().step_ms.size();
@@ -262,7 +254,7 @@ void run_filter_command(const FilterCliOptions& o) {
   }
   if (!o.plot.empty())
     write_file_atomically(o.plot, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" +
-                                      filter_dashboard(label, runs.front(), s, map.landmarks).str(), "--plot");
+                                      filter_dashboard(run_label(o), runs.front(), s, map.landmarks).str(), "--plot");
   if (!o.trajectory.empty()) {
     std::string text = "# timestamp x y z qx qy qz qw  (slamkit filter " + o.algorithm + ", seed " +
                        std::to_string(runs.front().seed) + ")\n";
