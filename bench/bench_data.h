@@ -4,12 +4,20 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace slamkit::bench {
+
+/// Thread CPU time in ms: on a shared machine wall time would measure the other jobs.
+inline double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
 
 inline std::filesystem::path data_root() {
   const char* env = std::getenv("SLAMKIT_DATA");

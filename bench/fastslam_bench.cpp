@@ -17,18 +17,13 @@
 #include <string>
 #include <vector>
 
+#include "bench_data.h"
 #include "slamkit/eval/plot.h"
 #include "slamkit/filters/fastslam.h"
 #include "slamkit/sim/landmark_sim.h"
 
 using namespace slamkit;
 
-// Thread CPU time in ms: the machine is shared, wall time would count other people's jobs.
-static double cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
 
 int main(int argc, char** argv) {
   int steps = 2000;
@@ -62,10 +57,10 @@ int main(int argc, char** argv) {
       double total = 0, scan_total = 0, scan_max = 0;
       int scans = 0, observations = 0;
       for (const LandmarkSimStep& s : run.steps) {
-        const double t0 = cpu_ms();
+        const double t0 = bench::thread_cpu_ms();
         f.predict(Control{s.v, s.steer, so.dt});
         if (s.observed) f.update(s.observations);
-        const double ms = cpu_ms() - t0;
+        const double ms = bench::thread_cpu_ms() - t0;
         total += ms;
         if (s.observed) {
           ++scans;
@@ -79,13 +74,13 @@ int main(int argc, char** argv) {
       const std::size_t nodes = PersistentLandmarkMap::distinct_nodes(maps);
       // What a flat map per particle would pay per resampling: M copies of n landmarks.
       std::vector<LandmarkGaussian> flat(static_cast<std::size_t>(n));
-      const double c0 = cpu_ms();
+      const double c0 = bench::thread_cpu_ms();
       std::size_t sink = 0;
       for (int k = 0; k < M; ++k) {
         std::vector<LandmarkGaussian> copy = flat;
         sink += copy.size();
       }
-      const double flat_ms = cpu_ms() - c0;
+      const double flat_ms = bench::thread_cpu_ms() - c0;
       const double per_step = total / static_cast<double>(run.steps.size());
       std::printf("fastslam%d n=%5d M=%d: %.4f ms/step, %.3f ms/scan (max %.3f), %.1f obs/scan, %d resamples, "
                   "%zu tree nodes for %d particles (flat maps: %d), flat copy per resampling %.3f ms (sink %zu)\n",

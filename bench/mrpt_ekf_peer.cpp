@@ -7,7 +7,9 @@
 // CActionRobotMovement2D, and the scan (or an empty sensory frame) in the same
 // processActionObservation call. Timing: thread CPU time per step, mean over all steps and over
 // the last 10% (map at its final size), and binned by map size. Built only when MRPT is found.
-//   mrpt_ekf_peer [--landmarks N] [--steps S (0: whole route)] [--out FILE]
+// With --survey 1 the first update is a survey scan of the whole world (sim/survey_scan) given to
+// both filters, so the timed steps run at exactly N landmarks from the start.
+//   mrpt_ekf_peer [--landmarks N] [--steps S (0: whole route)] [--survey 0|1] [--out FILE]
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
@@ -25,6 +27,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "bench_data.h"
 #include "slamkit/filters/filter_factory.h"
 #include "slamkit/geometry/lie_math.h"
 #include "slamkit/sim/landmark_sim.h"
@@ -33,11 +36,6 @@ using namespace slamkit;
 
 namespace {
 
-double cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
 
 struct Timing {
   double total = 0, last = 0, max = 0, se_pos = 0;
@@ -62,15 +60,41 @@ struct Timing {
   }
 };
 
+// One MRPT sensory frame with a bearing-range observation of `z` (MRPT needs one in every
+// frame: empty between scans), known ids in landmarkID.
+mrpt::obs::CSensoryFrame::Ptr sensory_frame(const std::vector<RangeBearing>& z, double max_range) {
+  const LandmarkSimOptions sim;
+  auto sf = mrpt::obs::CSensoryFrame::Create();
+  auto obs = mrpt::obs::CObservationBearingRange::Create();
+  obs->sensor_std_range = float(sim.sigma_range);
+  obs->sensor_std_yaw = float(sim.sigma_bearing);
+  obs->sensor_std_pitch = 0;
+  obs->validCovariances = false;
+  obs->maxSensorDistance = float(max_range);
+  obs->fieldOfView_yaw = float(2 * kPi);
+  for (const RangeBearing& o : z) {
+    mrpt::obs::CObservationBearingRange::TMeasurement m;
+    m.range = float(o.range);
+    m.yaw = float(o.bearing);
+    m.pitch = 0;
+    m.landmarkID = o.id;
+    obs->sensedData.push_back(m);
+  }
+  sf->insert(obs);
+  return sf;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int n = 1000, max_steps = 0;
+  bool survey = false;
   std::string out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/mrpt_ekf_peer.json";
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--landmarks")) n = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--steps")) max_steps = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
+    if (!std::strcmp(argv[i], "--survey")) survey = std::atoi(argv[i + 1]) != 0;
   }
   char version[16];
   std::snprintf(version, sizeof version, "%d.%d.%d", MRPT_VERSION >> 8, (MRPT_VERSION >> 4) & 15, MRPT_VERSION & 15);
@@ -85,6 +109,7 @@ int main(int argc, char** argv) {
   LandmarkFilterOptions fo;
   fo.motion = bicycle;
   fo.sensor = RangeBearingModel(sim.sigma_range, sim.sigma_bearing);
+  fo.expected_landmarks = n;
   auto ekf = make_landmark_filter("ekf", fo);
 
   mrpt::slam::CRangeBearingKFSLAM2D mrpt_ekf;
@@ -101,17 +126,37 @@ int main(int argc, char** argv) {
                           sim.speed * sim.dt * std::sin(sim.sigma_steer) / sim.wheelbase};
 
   const long steps = long(run.steps.size());
+  int map_sk = 0;
+  double survey_ms_sk = 0, survey_ms_mrpt = 0;
+  if (survey) {
+    // The whole world enters both maps in one first update from the start pose (untimed in the
+    // step statistics), so every timed step runs at exactly n landmarks.
+    const std::vector<RangeBearing> z = survey_scan(lm, Eigen::Vector3d::Zero(), sim, 1000 + n);
+    double t0 = bench::thread_cpu_ms();
+    ekf->update(z);
+    survey_ms_sk = bench::thread_cpu_ms() - t0;
+    map_sk = ekf->last_update().new_landmarks;
+    auto act = mrpt::obs::CActionCollection::Create();
+    mrpt::obs::CActionRobotMovement2D still;
+    still.computeFromOdometry(mrpt::poses::CPose2D(0, 0, 0), motion);
+    act->insert(still);
+    t0 = bench::thread_cpu_ms();
+    auto survey_frame = sensory_frame(z, 1e9);
+    mrpt_ekf.processActionObservation(act, survey_frame);
+    survey_ms_mrpt = bench::thread_cpu_ms() - t0;
+    std::printf("survey: %zu observations, slamkit %d landmarks in %.0f ms, MRPT %zu in %.0f ms\n", z.size(), map_sk,
+                survey_ms_sk, mrpt_ekf.getNumberOfLandmarksInTheMap(), survey_ms_mrpt);
+  }
   const long last_from = steps * 9 / 10;
   Timing t_sk, t_mrpt;
-  int map_sk = 0;
   std::printf("generated:%d, %ld control steps; slamkit EKF and MRPT %s CRangeBearingKFSLAM2D\n", n, steps, mrpt_version.c_str());
   for (long k = 0; k < steps; ++k) {
     const LandmarkSimStep& s = run.steps[k];
     const Control u{s.v, s.steer, sim.dt};
-    double t0 = cpu_ms();
+    double t0 = bench::thread_cpu_ms();
     ekf->predict(u);
     if (s.observed) ekf->update(s.observations);
-    t_sk.add(cpu_ms() - t0, map_sk, k >= last_from);
+    t_sk.add(bench::thread_cpu_ms() - t0, map_sk, k >= last_from);
     if (s.observed) map_sk += ekf->last_update().new_landmarks;
 
     // MRPT: the same control as an odometry increment, the same scan.
@@ -120,29 +165,11 @@ int main(int argc, char** argv) {
     mrpt::obs::CActionRobotMovement2D move;
     move.computeFromOdometry(mrpt::poses::CPose2D(d.x(), d.y(), d.z()), motion);
     act->insert(move);
-    auto sf = mrpt::obs::CSensoryFrame::Create();
-    {  // MRPT needs a bearing-range observation in every frame: empty between scans.
-      auto obs = mrpt::obs::CObservationBearingRange::Create();
-      obs->sensor_std_range = float(sim.sigma_range);
-      obs->sensor_std_yaw = float(sim.sigma_bearing);
-      obs->sensor_std_pitch = 0;
-      obs->validCovariances = false;
-      obs->maxSensorDistance = float(sim.max_range);
-      obs->fieldOfView_yaw = float(2 * kPi);
-      for (const RangeBearing& z : s.observations) {  // empty when !s.observed
-        mrpt::obs::CObservationBearingRange::TMeasurement m;
-        m.range = float(z.range);
-        m.yaw = float(z.bearing);
-        m.pitch = 0;
-        m.landmarkID = z.id;
-        obs->sensedData.push_back(m);
-      }
-      sf->insert(obs);
-    }
+    auto sf = sensory_frame(s.observations, sim.max_range);
     const int map_mrpt = int(mrpt_ekf.getNumberOfLandmarksInTheMap());
-    t0 = cpu_ms();
+    t0 = bench::thread_cpu_ms();
     mrpt_ekf.processActionObservation(act, sf);
-    t_mrpt.add(cpu_ms() - t0, map_mrpt, k >= last_from);
+    t_mrpt.add(bench::thread_cpu_ms() - t0, map_mrpt, k >= last_from);
 
     if (s.observed) {
       mrpt::poses::CPosePDFGaussian p;
@@ -159,7 +186,10 @@ int main(int argc, char** argv) {
   const int mrpt_landmarks = int(mrpt_ekf.getNumberOfLandmarksInTheMap());
   nlohmann::json doc = {
       {"benchmark", "mrpt_ekf_peer"},
-      {"command", "build/bench/mrpt_ekf_peer --landmarks " + std::to_string(n) + " --steps " + std::to_string(max_steps)},
+      {"command", "build/bench/mrpt_ekf_peer --landmarks " + std::to_string(n) + " --steps " + std::to_string(max_steps) +
+                      (survey ? " --survey 1" : "")},
+      {"survey", survey},
+      {"survey_update_ms", {{"slamkit", survey_ms_sk}, {"mrpt", survey_ms_mrpt}}},
       {"what", "slamkit EKF-SLAM vs MRPT CRangeBearingKFSLAM2D on the same simulated run, known association, one process"},
       {"world", "generated:" + std::to_string(n)}, {"seed", 1}, {"steps", steps},
       {"timing", "thread CPU time per control step (predict + update when a scan arrives), Release, 1 thread"},

@@ -124,7 +124,8 @@ SvgWriter plot_rmse(const std::vector<std::pair<std::string, const ConsistencySu
 
 SvgWriter plot_time_per_step(const std::vector<TimingSeries>& lines, const std::string& title, double width,
                              double height) {
-  Plot p(title, "landmarks in the map", "time per step [ms] (log scale)");
+  Plot p(title, "landmarks in the map (log scale)", "time per step [ms] (log scale)");
+  p.set_log_x(true);
   p.set_log_y(true);
   for (std::size_t i = 0; i < lines.size(); ++i) {
     Plot::Series s = series(lines[i].label, lines[i].landmarks, lines[i].ms, palette(i), 1.6);

@@ -46,14 +46,10 @@ void Eif::predict(const Control& u) {
 
 void Eif::update(const std::vector<RangeBearing>& z) {
   check_observations(z, "eif");
-  stats_ = UpdateStatistics{};
-  stats_.observations = int(z.size());
+  const std::vector<int> assoc = filters_detail::start_dense_update(
+      z, pose(), ids_, [this](int id) { return slot(id); }, mu_,
+      [this](const std::vector<int>& ids) { return joint_covariance(ids); }, o_, &stats_);
   if (z.empty()) return;
-  std::vector<Eigen::Vector2d> means;
-  for (int id : ids_) means.push_back(mu_.segment<2>(slot(id)));
-  const std::vector<int> assoc = associate_landmarks(
-      z, pose(), ids_, means, [this](const std::vector<int>& ids) { return joint_covariance(ids); }, o_.sensor,
-      o_.association);
   std::vector<InformationFactor> factors;
   std::vector<int> slots;
   std::vector<Eigen::Vector2d> nus;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "slamkit/core/error.h"
+#include "slamkit/filters/data_association.h"
 #include "slamkit/filters/landmark_filter.h"
 #include "slamkit/geometry/lie_math.h"
 
@@ -122,6 +123,7 @@ inline void check_filter_options(const LandmarkFilterOptions& o, const char* fil
     throw InputError(filter, 0, "initial_sigma", "must be positive and finite");
   if (!o.initial_pose.allFinite()) throw InputError(filter, 0, "initial_pose", "not finite");
   if (!(o.pose_noise_floor.array() >= 0).all()) throw InputError(filter, 0, "pose_noise_floor", "negative");
+  if (o.expected_landmarks < 0) throw InputError(filter, 0, "expected_landmarks", "negative");
 }
 
 inline void check_control(const Control& u, const char* filter) {
@@ -135,11 +137,29 @@ inline void check_observations(const std::vector<RangeBearing>& z, const char* f
       throw InputError(filter, 0, "observation", "range must be positive and finite, bearing finite");
 }
 
+/// The shared start of a dense filter's update (EKF, EIF): reset the statistics, then associate
+/// the scan with the mapped landmarks, whose means sit in μ at slot(id). Returns one entry per
+/// observation (landmark id, kNewLandmark or kRejectedObservation); empty for an empty scan.
+template <class Slot, class JointCovariance>
+std::vector<int> start_dense_update(const std::vector<RangeBearing>& z, const Eigen::Vector3d& pose,
+                                    const std::vector<int>& ids, const Slot& slot, const Eigen::VectorXd& mu,
+                                    const JointCovariance& joint_covariance, const LandmarkFilterOptions& o,
+                                    UpdateStatistics* stats) {
+  *stats = UpdateStatistics{};
+  stats->observations = int(z.size());
+  if (z.empty()) return {};
+  std::vector<Eigen::Vector2d> means;
+  means.reserve(ids.size());
+  for (int id : ids) means.push_back(mu.segment<2>(slot(id)));
+  return associate_landmarks(z, pose, ids, means, joint_covariance, o.sensor, o.association);
+}
+
 /// landmarks() and joint_covariance() of a filter with a dense mean μ and covariance P over
 /// [pose; landmarks]; slot(id) is the row of landmark id (or −1).
 template <class Slot>
 std::vector<LandmarkEstimate> dense_landmarks(const std::vector<int>& ids, const Slot& slot,
-                                              const Eigen::VectorXd& mu, const Eigen::MatrixXd& P) {
+                                              const Eigen::VectorXd& mu,
+                                              const Eigen::Ref<const Eigen::MatrixXd>& P) {
   std::vector<LandmarkEstimate> out;
   for (int id : ids) {
     const int s = slot(id);
@@ -150,7 +170,7 @@ std::vector<LandmarkEstimate> dense_landmarks(const std::vector<int>& ids, const
 
 template <class Slot>
 Eigen::MatrixXd dense_joint_covariance(const char* filter, const std::vector<int>& ids, const Slot& slot,
-                                       const Eigen::MatrixXd& P) {
+                                       const Eigen::Ref<const Eigen::MatrixXd>& P) {
   std::vector<int> rows = {0, 1, 2};
   for (int id : ids) {
     const int s = slot(id);

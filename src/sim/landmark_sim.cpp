@@ -2,12 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "slamkit/core/error.h"
 #include "slamkit/geometry/lie_math.h"
 
 namespace slamkit {
+namespace {
+
+// Noisy range-bearing observations of every landmark with min_range ≤ r ≤ max_range of `pose`.
+// The caller's distribution is used (it caches every second draw), so runs keep one stream.
+std::vector<RangeBearing> observe(const std::vector<Eigen::Vector2d>& landmarks, const Eigen::Vector3d& pose,
+                                  const LandmarkSimOptions& o, double max_range, std::mt19937_64& rng,
+                                  std::normal_distribution<double>& normal) {
+  std::vector<RangeBearing> out;
+  for (std::size_t i = 0; i < landmarks.size(); ++i) {
+    const Eigen::Vector2d dl = landmarks[i] - pose.head<2>();
+    const double r = dl.norm();
+    if (r > max_range || r < o.min_range) continue;
+    RangeBearing z;
+    z.id = static_cast<int>(i);
+    z.range = r + o.sigma_range * normal(rng);
+    z.bearing = wrap_angle(std::atan2(dl.y(), dl.x()) - pose.z() + o.sigma_bearing * normal(rng));
+    out.push_back(z);
+  }
+  return out;
+}
+
+}  // namespace
 
 LandmarkSimRun simulate_landmark_run(const std::vector<Eigen::Vector2d>& landmarks,
                                      const std::vector<Eigen::Vector2d>& waypoints,
@@ -45,20 +68,19 @@ LandmarkSimRun simulate_landmark_run(const std::vector<Eigen::Vector2d>& landmar
     step.steer = steer + o.sigma_steer * normal(rng);
     if ((k + 1) % o.observe_every == 0) {
       step.observed = true;
-      for (std::size_t i = 0; i < landmarks.size(); ++i) {
-        Eigen::Vector2d dl = landmarks[i] - pose.head<2>();
-        double r = dl.norm();
-        if (r > o.max_range || r < o.min_range) continue;
-        RangeBearing z;
-        z.id = static_cast<int>(i);
-        z.range = r + o.sigma_range * normal(rng);
-        z.bearing = wrap_angle(std::atan2(dl.y(), dl.x()) - pose.z() + o.sigma_bearing * normal(rng));
-        step.observations.push_back(z);
-      }
+      step.observations = observe(landmarks, pose, o, o.max_range, rng, normal);
     }
     run.steps.push_back(std::move(step));
   }
   return run;
+}
+
+std::vector<RangeBearing> survey_scan(const std::vector<Eigen::Vector2d>& landmarks, const Eigen::Vector3d& pose,
+                                     const LandmarkSimOptions& options, std::uint64_t seed) {
+  if (!pose.allFinite()) throw InputError("simulator", 0, "survey pose", "not finite");
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  return observe(landmarks, pose, options, std::numeric_limits<double>::infinity(), rng, normal);
 }
 
 void generate_landmark_world(int n, std::uint64_t seed, std::vector<Eigen::Vector2d>* landmarks,

@@ -58,6 +58,27 @@ TEST(EkfSlam, EqualsEifToOneInABillion) {
   EXPECT_LT(worst_cov, 1e-9);
 }
 
+// The capacity hint only changes where P lives: preallocated storage and storage grown as the
+// map fills give bit-identical estimates.
+TEST(EkfSlam, CapacityHintGivesIdenticalEstimates) {
+  auto w = small_world(12, 400);
+  const LandmarkSimRun run = simulate_landmark_run(w.landmarks, w.waypoints, w.sim, 5);
+  LandmarkFilterOptions hinted = w.filter;
+  hinted.expected_landmarks = 3;  // smaller than the map: storage still has to grow
+  EkfSlam grown(w.filter), reserved(hinted);
+  for (const auto& s : run.steps) {
+    const Control u{s.v, s.steer, w.sim.dt};
+    grown.predict(u);
+    reserved.predict(u);
+    if (s.observed) grown.update(s.observations), reserved.update(s.observations);
+  }
+  ASSERT_GT(grown.landmarks().size(), 3u);
+  EXPECT_EQ(grown.mean(), reserved.mean());
+  EXPECT_EQ(Eigen::MatrixXd(grown.covariance()), Eigen::MatrixXd(reserved.covariance()));
+  hinted.expected_landmarks = -1;
+  EXPECT_THROW(EkfSlam bad(hinted), InputError);
+}
+
 TEST(EkfSlam, NeesInsideChiSquareBoundsSymmetricNoNan) {
   // 20 runs (seeds 1..20) over 1500 control steps; ANEES of the pose at every observation step
   // must lie within the two-sided 99% bounds of χ²(20·3)/20 in at least 90% of the steps.

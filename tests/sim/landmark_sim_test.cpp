@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "slamkit/core/error.h"
@@ -32,6 +33,27 @@ TEST(LandmarkSim, SameSeedSameDrawsAndObservationsWithinRange) {
   double closest = 1e9;
   for (const auto& s : a.steps) closest = std::min(closest, (s.true_pose.head<2>() - wp[0]).norm());
   EXPECT_LT(closest, 1.5);
+}
+
+TEST(LandmarkSim, SurveyScanSeesEveryLandmarkBeyondRange) {
+  std::vector<Eigen::Vector2d> lm, wp;
+  generate_landmark_world(400, 2, &lm, &wp);
+  LandmarkSimOptions o;
+  const Eigen::Vector3d pose(0, 0, 0.3);
+  const auto a = survey_scan(lm, pose, o, 9), b = survey_scan(lm, pose, o, 9);
+  int far = 0, expected = 0;
+  for (const auto& p : lm) expected += (p - pose.head<2>()).norm() >= o.min_range;
+  ASSERT_EQ(int(a.size()), expected);
+  double worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].range, b[i].range);  // seeded
+    const double r = (lm[a[i].id] - pose.head<2>()).norm();
+    far += r > o.max_range;
+    worst = std::max(worst, std::abs(a[i].range - r) / o.sigma_range);
+  }
+  EXPECT_GT(far, 100);    // beyond the 30 m sensor range
+  EXPECT_LT(worst, 6.0);  // noise of the sensor's σ
+  EXPECT_THROW(survey_scan(lm, Eigen::Vector3d(NAN, 0, 0), o, 1), InputError);
 }
 
 TEST(LandmarkMapIo, ReadsAndRejectsMalformedWithLine) {

@@ -23,21 +23,25 @@ class EkfSlam final : public LandmarkFilter {
   void predict(const Control& u) override;
   void update(const std::vector<RangeBearing>& observations) override;
   Eigen::Vector3d pose() const override;
-  Eigen::Matrix3d pose_covariance() const override { return P_.topLeftCorner<3, 3>(); }
+  Eigen::Matrix3d pose_covariance() const override { return P_buf_.topLeftCorner<3, 3>(); }
   std::vector<LandmarkEstimate> landmarks() const override;
   Eigen::MatrixXd joint_covariance(const std::vector<int>& landmark_ids) const override;
   const UpdateStatistics& last_update() const override { return stats_; }
 
   const Eigen::VectorXd& mean() const { return mu_; }
-  const Eigen::MatrixXd& covariance() const { return P_; }
+  /// P (state dimension square): a view into the preallocated storage.
+  Eigen::Block<const Eigen::MatrixXd> covariance() const { return P_buf_.topLeftCorner(dim(), dim()); }
 
  private:
   int slot(int id) const;  // index of landmark id in μ, or −1
+  Eigen::Index dim() const { return mu_.size(); }
+  Eigen::Block<Eigen::MatrixXd> P() { return P_buf_.topLeftCorner(dim(), dim()); }
+  void reserve_state(Eigen::Index dim);  // capacity ≥ dim, keeps P
   void add_landmark(int id, const RangeBearing& z);
 
   LandmarkFilterOptions o_;
   Eigen::VectorXd mu_;
-  Eigen::MatrixXd P_;
+  Eigen::MatrixXd P_buf_;  // capacity × capacity; P is its top-left dim() × dim() block
   std::vector<int> ids_;
   std::unordered_map<int, int> index_;  // id → k (state rows 3 + 2k)
   int next_id_ = 0;                      // ids of landmarks started under unknown association

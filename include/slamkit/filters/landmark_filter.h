@@ -46,6 +46,9 @@ struct LandmarkFilterOptions {
   AssociationOptions association;
   int active_landmarks = 6;  // SEIF: bound on the active set
   int particles = 100;       // FastSLAM
+  /// Capacity hint for the dense filters (EKF): storage for this many landmarks is allocated
+  /// up front, so the n × n covariance is not regrown while the map fills (0: grow by 1.5×).
+  int expected_landmarks = 0;
   std::uint64_t seed = 1;    // particle filters
 };
 

@@ -51,6 +51,13 @@ LandmarkSimRun simulate_landmark_run(const std::vector<Eigen::Vector2d>& landmar
                                      const std::vector<Eigen::Vector2d>& waypoints,
                                      const LandmarkSimOptions& options, std::uint64_t seed);
 
+/// A survey scan: noisy range-bearing observations of every landmark seen from `pose` with no
+/// range limit (the options' noise and min_range), from its own seeded generator. Given as the
+/// first update, it puts the whole world into the map at once, so a benchmark times a filter's
+/// step at exactly N landmarks without driving the route that would discover them.
+std::vector<RangeBearing> survey_scan(const std::vector<Eigen::Vector2d>& landmarks, const Eigen::Vector3d& pose,
+                                      const LandmarkSimOptions& options, std::uint64_t seed);
+
 /// A generated world: `num_waypoints` waypoints on a circle of radius `radius` (a closed
 /// route) and N landmarks placed uniformly in a band of ±band metres around the route.
 void generate_landmark_world(int num_landmarks, std::uint64_t seed,
