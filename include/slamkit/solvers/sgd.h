@@ -26,7 +26,7 @@ struct SgdOptions {
   RelaxerGradientPhase gradient_phase = sgd_gradient_phase();
   static RelaxerGradientPhase sgd_gradient_phase() {
     RelaxerGradientPhase p;
-    p.quantile = 0.05;
+    p.quantile = 0.1;
     return p;
   }
   std::uint64_t seed = 1;  ///< order of the constraints in each iteration
