@@ -21,7 +21,7 @@ RelaxerSummary optimize_toro(PoseGraph& g, const ToroOptions& options) {
   std::mt19937_64 rng(options.seed);
   auto step = [&](int iteration) {
     const RelaxerGradientPhase p = phase.at(iteration);
-    if (options.shuffle_in_gradient_phase && p.start > 0 && iteration > p.start)
+    if (options.shuffle_in_gradient_phase && rg.dimension == 2 && p.start > 0 && iteration > p.start)
       // Fisher-Yates with our own draws: the same order on every platform
       for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng() % i]);
     engine.set_gradient_phase(p);

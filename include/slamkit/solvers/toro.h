@@ -23,7 +23,7 @@ namespace slamkit {
 struct ToroOptions {
   RelaxerStop stop;
   RelaxerGradientPhase gradient_phase;  ///< 2D: the unbiased second phase (relaxer.h)
-  /// The papers' update visits the constraints shortest path first; the gradient phase (a
+  /// The papers' update (and 3D) visits the constraints shortest path first; the 2D gradient phase (a
   /// stochastic gradient with one common learning rate) in a random order drawn from `seed`
   /// in every iteration, which removes the bias of a fixed cyclic order at a finite step
   /// (measured on INTEL: 235.7 after 4000 iterations, 240 in the sorted order).
