@@ -5,9 +5,10 @@
 // global-frame residual r and information W = G Ω Gᵀ, and changes the increments on the chain
 // between a and b by β = clamp(l · α · 2 W r, |r|) split in proportion to 1/M (M: the diagonal
 // of JᵀWJ, the preconditioner), with the learning rate α = 1/(γ · t) decreasing with the
-// iteration t (γ: the smallest diagonal information). Constraints are visited in a random
-// order (seeded, so the run is deterministic). Cost of an update: O(path length + depth) =
-// O(N) on the chain. 3D uses the rotation/translation split of the TORO engine on the same
+// iteration t (γ: the smallest diagonal information). Constraints are visited in file order
+// in the first iterations, then in a random order (seeded, so the run is deterministic).
+// Cost of an update: 2D O(log N) (sgd_chain_2d.h), 3D O(path length + depth) = O(N) on the
+// chain. 3D uses the rotation/translation split of the TORO engine on the same
 // chain. Converges from the odometry guess and, in 2D, from all-zero poses. In 2D a second
 // phase (gradient_phase, relaxer.h) takes over when this update stalls: one common learning
 // rate and the full Jacobian (θ–translation coupling), whose fixed point is the optimum.
