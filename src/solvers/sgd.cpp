@@ -30,10 +30,13 @@ RelaxerSummary optimize_sgd(PoseGraph& g, const SgdOptions& options) {
   std::iota(order.begin(), order.end(), 0);
   std::mt19937_64 rng(options.seed);
   auto step = [&](int iteration) {
-    if (options.shuffle)  // Fisher-Yates with our own draws: the same order on every platform
+    const RelaxerGradientPhase p = phase.at(iteration);
+    const bool in_phase = p.start > 0 && iteration > p.start;
+    if (options.shuffle && (in_phase || iteration > options.file_order_iterations))
+      // Fisher-Yates with our own draws: the same order on every platform
       for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng() % i]);
-    if (fast) chain_engine->set_gradient_phase(phase.at(iteration));
-    else tree_engine->set_gradient_phase(phase.at(iteration));
+    if (fast) chain_engine->set_gradient_phase(p);
+    else tree_engine->set_gradient_phase(p);
     return fast ? chain_engine->iterate(iteration, order) : tree_engine->iterate(iteration, order);
   };
   auto write_back = [&] { fast ? chain_engine->write_back(g) : tree_engine->write_back(g); };

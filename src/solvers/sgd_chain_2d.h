@@ -27,20 +27,27 @@ class ChainSgd2D {
   void write_back(PoseGraph& g) const;
 
  private:
-  double query(int dim, int p) const;
-  void range_add(int dim, int lo, int hi, double c);  // positions lo..hi inclusive
+  /// The pose at position p (all three coordinates in one tree walk).
+  Eigen::Vector3d query(int p) const;
+  /// Adds c_i · w_k,i to coordinate i of the increments at positions lo..hi (inclusive).
+  void range_add(int lo, int hi, const Eigen::Vector3d& c);
+  void range_add_theta(int hi, double c);  // θ only, positions 1..hi
   struct Edge {
     int pa, pb;
     Eigen::Vector3d z;
+    double cz, sz;  // cos, sin of z_θ
     Eigen::Matrix3d info;
+  };
+  struct Node {  // one Fenwick node of the three coordinates' trees
+    Eigen::Vector3d s1 = Eigen::Vector3d::Zero(), s2 = Eigen::Vector3d::Zero();
   };
   std::vector<int> chain_;
   std::vector<std::size_t> vertex_;
   std::vector<Edge> edges_;
   int n_;
   std::vector<Eigen::Vector3d> pose0_;  // poses at the start of the iteration
-  std::vector<double> w_[3], wsum_[3];  // w = 1/M per position, prefix sums (wsum[p] = Σ_{k≤p})
-  std::vector<double> s1_[3], s2_[3];   // Fenwick trees, 1-based
+  std::vector<Eigen::Vector3d> wsum_;  // prefix sums of w = 1/M per position (wsum[p] = Σ_{k≤p} w_k)
+  std::vector<Node> tree_;             // Fenwick trees S1, S2 of the three coordinates, 1-based
   Eigen::Vector3d gamma_;
   RelaxerGradientPhase phase_{0};
   Eigen::Vector3d phase_c_ = Eigen::Vector3d::Zero();

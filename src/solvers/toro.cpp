@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <random>
 
 #include "tree_relaxation.h"
 
@@ -17,8 +18,13 @@ RelaxerSummary optimize_toro(PoseGraph& g, const ToroOptions& options) {
   for (std::size_t e = 0; e < order.size(); ++e) length[e] = engine.path_length(static_cast<int>(e));
   std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return length[x] < length[y]; });
   detail::GradientPhaseSchedule phase(options.gradient_phase);
+  std::mt19937_64 rng(options.seed);
   auto step = [&](int iteration) {
-    engine.set_gradient_phase(phase.at(iteration));
+    const RelaxerGradientPhase p = phase.at(iteration);
+    if (options.shuffle_in_gradient_phase && rg.dimension == 2 && p.start > 0 && iteration > p.start)
+      // Fisher-Yates with our own draws: the same order on every platform
+      for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng() % i]);
+    engine.set_gradient_phase(p);
     return engine.iterate(iteration, order);
   };
   RelaxerSummary s = run_relaxer(g, "toro", phase.wrap(options.stop), step, [&] { engine.write_back(g); });

@@ -7,11 +7,22 @@
 
 namespace slamkit::detail {
 namespace {
-double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
-Eigen::Matrix2d rot2(double th) {
+constexpr double kPi = 3.14159265358979323846;
+// Angle into [−π, π) without trigonometry (the residuals are wrapped in every update).
+double wrap(double a) {
+  if (a >= -kPi && a < kPi) return a;
+  return a - 2 * kPi * std::floor((a + kPi) / (2 * kPi));
+}
+Eigen::Matrix2d rot2(double c, double s) {
   Eigen::Matrix2d R;
-  R << std::cos(th), -std::sin(th), std::sin(th), std::cos(th);
+  R << c, -s, s, c;
   return R;
+}
+// W = G Ω Gᵀ, G = blockdiag(R, 1) with R = (c −s; s c): the information in the global frame.
+Eigen::Matrix3d rotate_information(const Eigen::Matrix3d& info, double c, double s) {
+  Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
+  G.topLeftCorner<2, 2>() = rot2(c, s);
+  return G * info * G.transpose();
 }
 }  // namespace
 
@@ -105,6 +116,8 @@ TreeRelaxation::TreeRelaxation(const PoseGraph& g, const RelaxerGraph& rg, std::
     if (dim_ == 2) {
       x.z2 = Eigen::Vector3d(ge.pose2.x(), ge.pose2.y(), ge.pose2.theta());
       x.info2 = 0.5 * (ge.information + ge.information.transpose());
+      x.cz = std::cos(x.z2.z());
+      x.sz = std::sin(x.z2.z());
     } else {
       x.zq = ge.pose3.rotation().quaternion();
       x.zt = ge.pose3.translation();
@@ -185,21 +198,22 @@ void TreeRelaxation::preconditioner_2d(int iteration) {
   int top = 0;
   for (std::size_t e = 0; e < edges_.size(); ++e) {
     const Edge& x = edges_[e];
-    Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
-    G.topLeftCorner<2, 2>() = rot2(theta[x.a] + x.z2.z());
-    const Eigen::Matrix3d W = G * x.info2 * G.transpose();
+    const double ca = std::cos(theta[x.a]), sa = std::sin(theta[x.a]);
+    const Eigen::Matrix3d W = rotate_information(x.info2, ca * x.cz - sa * x.sz, sa * x.cz + ca * x.sz);
     const Eigen::Vector3d w = W.diagonal();
     gamma2_ = gamma2_.cwiseMin(w);
     path(static_cast<int>(e), &sa_, &sb_, &top);
     for (const auto* side : {&sa_, &sb_})
       for (int k : *side) m2_[k] += w;
     if (phase) {  // the coupling's diagonal uᵀ W_xy u on the θ increments from the root to a
-      const Eigen::Vector2d rz = rot2(theta[x.a]) * x.z2.head<2>();
+      const Eigen::Vector2d rz = rot2(ca, sa) * x.z2.head<2>();
       const Eigen::Vector2d u(-rz.y(), rz.x());
       const double q = u.dot(W.topLeftCorner<2, 2>() * u);
       for (int k = x.a; parent_[k] >= 0; k = parent_[k]) m2_[k].z() += q;
     }
   }
+  minv2_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) minv2_[k] = m2_[k].cwiseInverse();
   // C moves slowly with the orientations: refreshed every 10 iterations of the phase.
   if (!phase || ((iteration - phase_.start) % 10 != 1 && phase_c_.minCoeff() > 0)) return;
   std::vector<double> c[3];
@@ -207,7 +221,7 @@ void TreeRelaxation::preconditioner_2d(int iteration) {
     path(static_cast<int>(e), &sa_, &sb_, &top);
     Eigen::Vector3d tw = Eigen::Vector3d::Zero();
     for (const auto* side : {&sa_, &sb_})
-      for (int k : *side) tw += m2_[k].cwiseInverse();
+      for (int k : *side) tw += minv2_[k];
     for (int i = 0; i < 3; ++i) c[i].push_back(static_cast<double>(sa_.size() + sb_.size()) / tw[i]);
   }
   for (int i = 0; i < 3; ++i) {
@@ -225,19 +239,19 @@ double TreeRelaxation::update_2d(const Edge& e, int iteration) {
   Eigen::Vector3d pa = p_top, pb = p_top;
   for (int k : sa_) pa += inc_[k];
   for (int k : sb_) pb += inc_[k];
-  const double th12 = pa.z() + e.z2.z();
+  const double ca = std::cos(pa.z()), sa = std::sin(pa.z());
+  const Eigen::Vector2d rz = rot2(ca, sa) * e.z2.head<2>();  // R(θa) z_xy
   Eigen::Vector3d r;
-  r.head<2>() = pa.head<2>() + rot2(pa.z()) * e.z2.head<2>() - pb.head<2>();
-  r.z() = wrap(th12 - pb.z());
-  Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
-  G.topLeftCorner<2, 2>() = rot2(th12);
-  const Eigen::Vector3d d = 2.0 * (G * e.info2 * G.transpose()) * r;
+  r.head<2>() = pa.head<2>() + rz - pb.head<2>();
+  r.z() = wrap(pa.z() + e.z2.z() - pb.z());
+  const Eigen::Matrix3d W = rotate_information(e.info2, ca * e.cz - sa * e.sz, sa * e.cz + ca * e.sz);
+  const Eigen::Vector3d d = 2.0 * W * r;
   const double l = static_cast<double>(sa_.size() + sb_.size());
   const bool phase = in_phase(iteration);
   const double tau = phase ? phase_.t0 + (iteration - phase_.start) : iteration;
   Eigen::Vector3d beta, tw = Eigen::Vector3d::Zero();
   for (const auto* side : {&sa_, &sb_})
-    for (int k : *side) tw += m2_[k].cwiseInverse();
+    for (int k : *side) tw += minv2_[k];
   for (int i = 0; i < 3; ++i) {
     // The papers' factor l, or (second phase) the common C_i: Σ_path λ W r / M_k = C_i tw_i d_i / (γ_i τ).
     beta[i] = (phase ? phase_c_[i] * tw[i] : l) * d[i] / (gamma2_[i] * tau);
@@ -245,22 +259,22 @@ double TreeRelaxation::update_2d(const Edge& e, int iteration) {
   }
   double change = 0.0;
   if (phase) {  // coupling: ∂r_xy/∂θ_a = u, a step on the θ increments from the root to a
-    const Eigen::Vector2d rz = rot2(pa.z()) * e.z2.head<2>();
     const Eigen::Vector2d u(-rz.y(), rz.x());
     const double gu = d.head<2>().dot(u);  // ∂(rᵀWr)/∂θ_a through r_xy
-    const double q = u.dot((G * e.info2 * G.transpose()).topLeftCorner<2, 2>() * u);
+    const double q = u.dot(W.topLeftCorner<2, 2>() * u);
     const double lambda = phase_c_.z() / (gamma2_.z() * tau);
     double total = 0.0;
-    for (int k = e.a; parent_[k] >= 0; k = parent_[k]) total += lambda * gu / m2_[k].z();
+    for (int k = e.a; parent_[k] >= 0; k = parent_[k]) total += lambda * gu * minv2_[k].z();
     const double bound = q > 0 ? std::min(phase_.max_turn, std::abs(0.5 * gu / q)) : 0.0;
     const double scale = std::abs(total) > bound ? bound / std::abs(total) : 1.0;
-    for (int k = e.a; parent_[k] >= 0; k = parent_[k]) inc_[k].z() -= scale * lambda * gu / m2_[k].z();
+    for (int k = e.a; parent_[k] >= 0; k = parent_[k]) inc_[k].z() -= scale * lambda * gu * minv2_[k].z();
     change = std::abs(scale * total);
   }
+  const Eigen::Vector3d share = beta.cwiseQuotient(tw);
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int k : side == 0 ? sa_ : sb_) {
-      const Eigen::Vector3d delta = sign * beta.cwiseQuotient(m2_[k].cwiseProduct(tw));
+      const Eigen::Vector3d delta = sign * share.cwiseProduct(minv2_[k]);
       inc_[k] += delta;
       change = std::max(change, delta.cwiseAbs().maxCoeff());
     }

@@ -73,6 +73,7 @@ class TreeRelaxation {
     int a, b;
     Eigen::Vector3d z2 = Eigen::Vector3d::Zero();  // 2D measurement (x, y, θ)
     Eigen::Matrix3d info2 = Eigen::Matrix3d::Zero();
+    double cz = 1, sz = 0;  // cos, sin of the 2D measurement's θ
     Eigen::Quaterniond zq = Eigen::Quaterniond::Identity();
     Eigen::Vector3d zt = Eigen::Vector3d::Zero();
     double w_rot = 0, w_trans = 0;  // 3D: smallest diagonal entry of the rotation / translation information
@@ -87,7 +88,7 @@ class TreeRelaxation {
   // 2D state
   std::vector<Eigen::Vector3d> inc_;  // global increments
   Eigen::Vector3d gamma2_;
-  std::vector<Eigen::Vector3d> m2_;
+  std::vector<Eigen::Vector3d> m2_, minv2_;  // M per node and 1/M
   // 3D state: relative motions to the parent (root: its global pose)
   std::vector<Eigen::Quaterniond> rq_;
   std::vector<Eigen::Vector3d> rt_;
