@@ -87,6 +87,8 @@ nlohmann::json run_ceres(BalProblem p, const std::string& solver) {
   ceres::Solver::Summary s;
   ceres::Solve(options, &problem, &s);
   const double t = now_s() - t0;
+  long cg_iterations = 0;  // ITERATIVE_SCHUR: CG iterations over all LM steps (direct solvers: 1 per step)
+  for (const ceres::IterationSummary& it : s.iterations) cg_iterations += it.linear_solver_iterations;
   return {{"solver", "ceres " + solver},
           {"seconds", t},
           {"solve_seconds", s.total_time_in_seconds},
@@ -94,6 +96,8 @@ nlohmann::json run_ceres(BalProblem p, const std::string& solver) {
           {"final_cost", s.final_cost},
           {"iterations", static_cast<int>(s.iterations.size()) - 1},
           {"linear_solver_seconds", s.linear_solver_time_in_seconds},
+          {"linear_solves", s.num_linear_solves},
+          {"linear_solver_iterations", cg_iterations},
           {"termination", ceres::TerminationTypeToString(s.termination_type)}};
 }
 
@@ -256,10 +260,14 @@ int main(int argc, char** argv) {
                                  : in_child([&] { return run_slamkit(p, solver); });
         j["round"] = round;
         j["load_average"] = load_average();
-        std::printf("  [%d] %-24s %8.3f s (cpu %8.3f)  %3d it  cost %.6e -> %.6e  %7.0f MB  %s\n", round, name.c_str(),
+        const long cg = j.value("linear_solver_iterations", j.value("pcg_iterations", 0L));
+        std::printf("  [%d] %-24s %8.3f s (cpu %8.3f)  %3d it  cost %.6e -> %.6e  %7.0f MB  %s%s\n", round, name.c_str(),
                     j.value("seconds", 0.0), j.value("cpu_seconds", 0.0), j.value("iterations", 0),
                     j.value("initial_cost", 0.0), j.value("final_cost", 0.0), j.value("peak_rss_mb", 0.0),
-                    j.value("error", "").c_str());
+                    j.value("error", "").c_str(),
+                    solver.find("ITERATIVE") != std::string::npos || solver.find("pcg") != std::string::npos
+                        ? ("  CG iterations " + std::to_string(cg)).c_str()
+                        : "");
         std::fflush(stdout);
         by_solver[name].push_back(j);
       }

@@ -77,7 +77,7 @@ Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& values, 
     finish(Termination::kGradientTolerance, "the initial estimate is already a minimum (|g| <= tolerance)");
   } else {
     bool done = false;
-    Eigen::VectorXd step(ne.dim()), D;
+    Eigen::VectorXd step(ne.dim()), rhs(ne.dim()), D;
     for (int iter = 1; iter <= options.max_iterations && !done; ++iter) {
       const double t_iter = now_s();
       IterationSummary it;
@@ -88,20 +88,18 @@ Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& values, 
       D = options.lm_diagonal_scaling ? Eigen::VectorXd(ne.hessian_diagonal().cwiseMax(1e-6).cwiseMin(1e32))
                                       : Eigen::VectorXd::Ones(ne.dim());
       bool factored = false;
+      rhs = -ne.gradient();
       while (true) {
         ne.set_diagonal_damping(lambda * D);
         ++solves;
-        if (solver.factorize(ne.hessian())) {
+        if (solver.factorize(ne.hessian(), rhs.data())) {  // the reduced rhs is formed with S
           factored = true;
           break;
         }
         lambda *= nu, nu *= 2.0;
         if (lambda > options.lm_max_lambda) break;
       }
-      if (factored) {
-        const Eigen::VectorXd rhs = -ne.gradient();
-        solver.solve(rhs.data(), step.data());
-      }
+      if (factored) solver.solve_factored_rhs(step.data());
       it.linear_solves = solves;
       it.linear_solver_time_s = now_s() - t_lin;
       s.linear_solves += solves;

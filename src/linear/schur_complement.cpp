@@ -77,7 +77,17 @@ struct SchurComplementSolver::Impl {
   std::unique_ptr<SparseCholesky> chol;
   std::vector<double> precond;  // PCG: inverse diagonal blocks
   std::vector<std::ptrdiff_t> precond_off;
-  Eigen::VectorXd ye, rk, xk, work_e, pr, pz, pp, pq;
+  Eigen::VectorXd ye, rk, xk, be, bk, work_e, pr, pz, pp, pq;
+  bool rhs_formed = false;  // rk (and be, bk) hold the rhs of the b given to factorize(A, b)
+
+  // be = b_e (packed), bk = b_k (S numbering).
+  void gather_rhs(const double* b) {
+    const int de = ne > 0 ? ed[0] : 0;
+    for (int e = 0; e < ne; ++e)
+      for (int a = 0; a < de; ++a) be[e * de + a] = b[e_start[e] + a];
+    for (int s = 0; s < nk; ++s)
+      for (int a = 0; a < kd[s]; ++a) bk[s_start[s] + a] = b[k_start[s] + a];
+  }
 
   template <class F>
   void dispatch(F&& f) {
@@ -108,10 +118,13 @@ struct SchurComplementSolver::Impl {
     return true;
   }
 
-  // dest(kd_i × kd_s) -= Σ_e E_ie C_e⁻¹ E_seᵀ for the rows i ≥ s, plus B's lower blocks.
+  // dest(kd_i × kd_s) -= Σ_e E_ie C_e⁻¹ E_seᵀ for the rows i ≥ s, plus B's lower blocks; with
+  // rhs, also rk_s = b_s − Σ_e (C_e⁻¹ E_seᵀ)ᵀ b_e from bk and the packed b_e in work_e.
   template <int KD, int ED, class Dest>
-  void form_column(int s, Dest&& dest) {
+  void form_column(int s, Dest&& dest, bool rhs) {
     const int ds = kd[s];
+    Eigen::Matrix<double, KD, 1> r(ds);
+    if (rhs) r = bk.segment(s_start[s], ds);
     for (int b = bl_ptr[s]; b < bl_ptr[s + 1]; ++b) {
       const BEntry& x = bl[b];
       const int di = kd[x.other];
@@ -126,6 +139,7 @@ struct SchurComplementSolver::Impl {
       const CMap<KD, ED> Ese(H() + e_off[k_slot[t]], ds, de, Eigen::OuterStride<>(ld));
       const CMap<ED, ED> Ci(cinv.data() + cinv_off[e], de, de, Eigen::OuterStride<>(de));
       const Eigen::Matrix<double, ED, KD> F = Ci.lazyProduct(Ese.transpose());
+      if (rhs) r.noalias() -= F.transpose() * CVec<ED>(be.data() + static_cast<std::ptrdiff_t>(e) * de, de);
       for (int q = e_ptr[e]; q < e_ptr[e + 1]; ++q) {
         const int i = e_kept[q];
         if (i < s) continue;
@@ -133,10 +147,11 @@ struct SchurComplementSolver::Impl {
         D.noalias() -= CMap<KD, ED>(H() + e_off[q], kd[i], de, Eigen::OuterStride<>(ld)).lazyProduct(F);
       }
     }
+    if (rhs) rk.segment(s_start[s], ds) = r;
   }
 
   template <int KD, int ED>
-  void form_dense(const ThreadPool& pool) {
+  void form_dense(const ThreadPool& pool, bool rhs) {
     pool.parallel_for(
         nk,
         [&](std::size_t b, std::size_t e) {
@@ -146,14 +161,14 @@ struct SchurComplementSolver::Impl {
             form_column<KD, ED>(static_cast<int>(s), [&](int i) {
               return MMap<KD, KD>(dense.data() + static_cast<std::ptrdiff_t>(c0) * nS + s_start[i], kd[i], ds,
                                   Eigen::OuterStride<>(nS));
-            });
+            }, rhs);
           }
         },
         1);
   }
 
   template <int KD, int ED>
-  void form_sparse(const ThreadPool& pool) {
+  void form_sparse(const ThreadPool& pool, bool rhs) {
     pool.parallel_for(
         nk,
         [&](std::size_t b, std::size_t e) {
@@ -166,19 +181,22 @@ struct SchurComplementSolver::Impl {
               where[*r] = S.block_offset(*r, si);
             form_column<KD, ED>(si, [&](int i) {
               return MMap<KD, KD>(S.values().data() + where[i], kd[i], ds, Eigen::OuterStride<>(ld));
-            });
+            }, rhs);
           }
         },
         1);
   }
 
   // Inverse diagonal blocks of S (Schur-Jacobi) or of B (block-Jacobi); false if one is not PD.
+  // With rhs (Schur-Jacobi only), also rk as in form_column.
   template <int KD, int ED>
-  bool form_preconditioner(std::size_t begin, std::size_t end, bool schur) {
+  bool form_preconditioner(std::size_t begin, std::size_t end, bool schur, bool rhs) {
     using M = Eigen::Matrix<double, KD, KD>;
     for (std::size_t s = begin; s < end; ++s) {
       const int ds = kd[s];
       M D = M::Zero(ds, ds);
+      Eigen::Matrix<double, KD, 1> r(ds);
+      if (rhs) r = bk.segment(s_start[s], ds);
       for (int b = bl_ptr[s]; b < bl_ptr[s + 1]; ++b)
         if (bl[b].other == static_cast<int>(s))
           D += CMap<KD, KD>(H() + bl[b].off, ds, ds, Eigen::OuterStride<>(bl[b].ld));
@@ -187,9 +205,12 @@ struct SchurComplementSolver::Impl {
           const int e = k_elim[t], de = ed[e];
           const CMap<KD, ED> Ese(H() + e_off[k_slot[t]], ds, de, Eigen::OuterStride<>(e_diag_ld[e]));
           const CMap<ED, ED> Ci(cinv.data() + cinv_off[e], de, de, Eigen::OuterStride<>(de));
-          D.noalias() -= Ese.lazyProduct(Eigen::Matrix<double, ED, KD>(Ci.lazyProduct(Ese.transpose())));
+          const Eigen::Matrix<double, ED, KD> F = Ci.lazyProduct(Ese.transpose());
+          D.noalias() -= Ese.lazyProduct(F);
+          if (rhs) r.noalias() -= F.transpose() * CVec<ED>(be.data() + static_cast<std::ptrdiff_t>(e) * de, de);
         }
       }
+      if (rhs) rk.segment(s_start[s], ds) = r;
       Eigen::LLT<M> l(D);
       if (l.info() != Eigen::Success) return false;
       MMap<KD, KD>(precond.data() + precond_off[s], ds, ds, Eigen::OuterStride<>(ds)) = l.solve(M::Identity(ds, ds));
@@ -425,8 +446,8 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
   }
   m.cinv.assign(static_cast<std::size_t>(coff), 0.0);
   const int edim = m.ne > 0 ? m.ne * m.ed[0] : 0;
-  m.ye.resize(edim), m.work_e.resize(edim);
-  m.rk.resize(m.nS), m.xk.resize(m.nS);
+  m.ye.resize(edim), m.work_e.resize(edim), m.be.resize(edim);
+  m.rk.resize(m.nS), m.xk.resize(m.nS), m.bk.resize(m.nS);
 
   stats_ = CholeskyStats();
   if (method_ == SchurMethod::kDense) {
@@ -454,10 +475,13 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
   stats_.analyze_time_s = now_s() - t0;
 }
 
-bool SchurComplementSolver::factorize(const BlockSparseMatrix& A) {
+bool SchurComplementSolver::factorize(const BlockSparseMatrix& A) { return factorize(A, nullptr); }
+
+bool SchurComplementSolver::factorize(const BlockSparseMatrix& A, const double* b) {
   Impl& m = *impl_;
   if (m.A == nullptr || A.rows() != m.A->rows()) throw std::logic_error("SchurComplementSolver::factorize before analyze");
   m.A = &A;
+  m.rhs_formed = false;
   const double t0 = now_s();
   std::vector<char> ok(static_cast<std::size_t>(m.ne) + 1, 1);
   bool good = true;
@@ -468,11 +492,18 @@ bool SchurComplementSolver::factorize(const BlockSparseMatrix& A) {
   });
   for (char c : ok) good = good && c;
   if (!good) return false;
+  const bool schur_jacobi = options_.preconditioner == SchurPreconditioner::kSchurJacobi;
+  const bool rhs = b != nullptr && (method_ != SchurMethod::kPcg || schur_jacobi);
+  if (b) m.gather_rhs(b);
   bool result = true;
   m.dispatch([&](auto KD, auto ED) {
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    if (b && !rhs) {  // block-Jacobi: no E C⁻¹ at hand while forming it
+      m.template eliminated_solve<kd, edim>(pool_, m.be.data(), nullptr, m.ye.data());
+      m.template kept_gather<kd, edim>(pool_, m.bk.data(), nullptr, m.ye.data(), m.rk.data());
+    }
     if (method_ == SchurMethod::kDense) {
-      m.template form_dense<kd, edim>(pool_);
+      m.template form_dense<kd, edim>(pool_, rhs);
       last_schur_time_s_ = now_s() - t0;
       const double t1 = now_s();
       m.llt.reset();
@@ -480,51 +511,58 @@ bool SchurComplementSolver::factorize(const BlockSparseMatrix& A) {
       result = m.llt->info() == Eigen::Success;
       last_factor_time_s_ = now_s() - t1;
     } else if (method_ == SchurMethod::kCholesky) {
-      m.template form_sparse<kd, edim>(pool_);
+      m.template form_sparse<kd, edim>(pool_, rhs);
       last_schur_time_s_ = now_s() - t0;
       const double t1 = now_s();
       result = m.chol->factorize(m.S);
       last_factor_time_s_ = now_s() - t1;
     } else {
       std::vector<char> pok(static_cast<std::size_t>(m.nk) + 1, 1);
-      const bool schur = options_.preconditioner == SchurPreconditioner::kSchurJacobi;
-      pool_.parallel_for(m.nk, [&](std::size_t b, std::size_t e) { pok[b] = m.template form_preconditioner<kd, edim>(b, e, schur); });
+      pool_.parallel_for(m.nk, [&](std::size_t b0, std::size_t e) {
+        pok[b0] = m.template form_preconditioner<kd, edim>(b0, e, schur_jacobi, rhs);
+      });
       for (char c : pok) result = result && c;
       last_schur_time_s_ = now_s() - t0;
       last_factor_time_s_ = 0.0;
     }
   });
+  m.rhs_formed = result && b != nullptr;
   return result;
 }
 
 void SchurComplementSolver::solve(const double* b, double* x) {
   Impl& m = *impl_;
-  // Gather b: eliminated part (packed) and kept part (S numbering).
-  const int de = m.ne > 0 ? m.ed[0] : 0;
-  for (int e = 0; e < m.ne; ++e)
-    for (int a = 0; a < de; ++a) m.work_e[e * de + a] = b[m.e_start[e] + a];
-  Eigen::VectorXd bk(m.nS);
-  for (int s = 0; s < m.nk; ++s)
-    for (int a = 0; a < m.kd[s]; ++a) bk[m.s_start[s] + a] = b[m.k_start[s] + a];
+  m.gather_rhs(b);
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    // rhs = b_k − E C⁻¹ b_e.
+    m.template eliminated_solve<kd, edim>(pool_, m.be.data(), nullptr, m.ye.data());
+    m.template kept_gather<kd, edim>(pool_, m.bk.data(), nullptr, m.ye.data(), m.rk.data());
+  });
+  m.rhs_formed = true;
+  solve_factored_rhs(x);
+}
+
+void SchurComplementSolver::solve_factored_rhs(double* x) {
+  Impl& m = *impl_;
+  if (!m.rhs_formed) throw std::logic_error("SchurComplementSolver::solve_factored_rhs without a factorize(A, b)");
   last_pcg_iterations_ = 0;
   m.dispatch([&](auto KD, auto ED) {
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
-    // y = C⁻¹ b_e; rhs = b_k − E y.
-    m.template eliminated_solve<kd, edim>(pool_, m.work_e.data(), nullptr, m.ye.data());
-    m.template kept_gather<kd, edim>(pool_, bk.data(), nullptr, m.ye.data(), m.rk.data());
     if (method_ == SchurMethod::kDense) {
       m.xk = m.llt->solve(m.rk);
     } else if (method_ == SchurMethod::kCholesky) {
       m.chol->solve(m.rk.data(), m.xk.data());
     } else {
-      // Conjugate gradients on S x = rhs with S v = B v − E C⁻¹ Eᵀ v.
+      // Conjugate gradients on S x = rhs with S v = B v − E C⁻¹ Eᵀ v, x₀ = 0. With r = rhs − Sx
+      // the model is Q(x) = ½xᵀSx − rhsᵀx = −½ xᵀ(rhs + r).
       m.xk.setZero();
       m.pr = m.rk;
       const double r0 = m.pr.norm();
       if (r0 > 0.0) {
         m.template apply_preconditioner<kd, edim>(pool_, m.pr.data(), m.pz.data());
         m.pp = m.pz;
-        double rz = m.pr.dot(m.pz);
+        double rz = m.pr.dot(m.pz), q_prev = 0.0;
         for (int it = 0; it < options_.pcg_max_iterations; ++it) {
           // work_e = −C⁻¹ Eᵀ p, negated; then q = B p − E (C⁻¹ Eᵀ p).
           m.template eliminated_solve<kd, edim>(pool_, nullptr, m.pp.data(), m.work_e.data());
@@ -537,6 +575,11 @@ void SchurComplementSolver::solve(const double* b, double* x) {
           m.xk += alpha * m.pp;
           m.pr -= alpha * m.pq;
           if (m.pr.norm() <= options_.pcg_tolerance * r0) break;
+          const double q = -0.5 * m.xk.dot(m.rk + m.pr);
+          if (options_.pcg_q_tolerance > 0.0 && q < 0.0 &&
+              (it + 1) * (q - q_prev) / q < options_.pcg_q_tolerance)
+            break;
+          q_prev = q;
           m.template apply_preconditioner<kd, edim>(pool_, m.pr.data(), m.pz.data());
           const double rz_new = m.pr.dot(m.pz);
           m.pp = m.pz + (rz_new / rz) * m.pp;
@@ -545,11 +588,12 @@ void SchurComplementSolver::solve(const double* b, double* x) {
       }
       total_pcg_iterations_ += last_pcg_iterations_;
     }
-    // x_e = y − C⁻¹ Eᵀ x_k.
-    m.template eliminated_solve<kd, edim>(pool_, nullptr, m.xk.data(), m.work_e.data());
+    // Back-substitution x_e = C_e⁻¹ (b_e − Σ_k E_keᵀ x_k), one pass in the E blocks' storage order.
+    m.template eliminated_solve<kd, edim>(pool_, m.be.data(), m.xk.data(), m.ye.data());
   });
+  const int de = m.ne > 0 ? m.ed[0] : 0;
   for (int e = 0; e < m.ne; ++e)
-    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a] + m.work_e[e * de + a];
+    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a];
   for (int s = 0; s < m.nk; ++s)
     for (int a = 0; a < m.kd[s]; ++a) x[m.k_start[s] + a] = m.xk[m.s_start[s] + a];
 }
@@ -565,15 +609,8 @@ bool SchurComplementSolver::reduced_system(const BlockSparseMatrix& A, const dou
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
     good = m.template invert_c<edim>(0, m.ne);
     if (!good) return;
-    m.template form_dense<kd, edim>(pool_);
-    const int de = m.ne > 0 ? m.ed[0] : 0;
-    for (int e = 0; e < m.ne; ++e)
-      for (int a = 0; a < de; ++a) m.work_e[e * de + a] = b[m.e_start[e] + a];
-    Eigen::VectorXd bk(m.nS);
-    for (int s = 0; s < m.nk; ++s)
-      for (int a = 0; a < m.kd[s]; ++a) bk[m.s_start[s] + a] = b[m.k_start[s] + a];
-    m.template eliminated_solve<kd, edim>(pool_, m.work_e.data(), nullptr, m.ye.data());
-    m.template kept_gather<kd, edim>(pool_, bk.data(), nullptr, m.ye.data(), m.rk.data());
+    m.gather_rhs(b);
+    m.template form_dense<kd, edim>(pool_, true);
   });
   if (!good) return false;
   *S = m.dense.selfadjointView<Eigen::Lower>();

@@ -53,7 +53,7 @@ TEST(BundleAdjustment, EveryLinearSolverAndStrategyReachesTheOptimum) {
       BundleAdjustmentOptions o;
       o.optimizer.algorithm = a;
       o.optimizer.schur.method = m;
-      o.optimizer.schur.pcg_tolerance = 1e-8;
+      o.optimizer.schur.pcg_tolerance = 1e-8, o.optimizer.schur.pcg_q_tolerance = 0.0;
       o.optimizer.function_tolerance = 1e-10;
       o.optimizer.max_iterations = 200;
       const BundleAdjustmentResult r = optimize_bundle_adjustment(p, o);

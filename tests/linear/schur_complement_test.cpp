@@ -87,7 +87,7 @@ TEST(SchurComplement, EveryMethodMatchesTheDenseSolve) {
     for (SchurMethod m : {SchurMethod::kDense, SchurMethod::kCholesky, SchurMethod::kPcg, SchurMethod::kAuto}) {
       SchurOptions o;
       o.method = m;
-      o.pcg_tolerance = 1e-12;
+      o.pcg_tolerance = 1e-12, o.pcg_q_tolerance = 0.0;
       double q = 0.0;
       const Eigen::VectorXd x = solve_with(s, o, 2, b, &q);
       EXPECT_LT((x - ref).norm(), 1e-8 * ref.norm()) << to_string(m) << " kept dims " << kept[2];
@@ -96,9 +96,68 @@ TEST(SchurComplement, EveryMethodMatchesTheDenseSolve) {
     SchurOptions bj;
     bj.method = SchurMethod::kPcg;
     bj.preconditioner = SchurPreconditioner::kBlockJacobi;
-    bj.pcg_tolerance = 1e-12;
+    bj.pcg_tolerance = 1e-12, bj.pcg_q_tolerance = 0.0;
     EXPECT_LT((solve_with(s, bj, 1, b) - ref).norm(), 1e-8 * ref.norm());
   }
+}
+
+// factorize(H, b) forms the reduced rhs with S; solve_factored_rhs must give the plain solve's
+// answer up to rounding (the rhs sums the same terms in another grouping), for 1 and 2
+// threads; without a factorize(H, b) it refuses.
+TEST(SchurComplement, RhsFormedWithTheFactorizationMatchesThePlainSolve) {
+  TestSystem s = make_system(60, 3, {9, 9, 9, 9, 9, 9}, 11);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(s.dense.rows(), -2.0, 1.0);
+  const Eigen::VectorXd ref = s.dense.llt().solve(b);
+  for (SchurMethod m : {SchurMethod::kDense, SchurMethod::kCholesky, SchurMethod::kPcg}) {
+    for (auto pre : {SchurPreconditioner::kSchurJacobi, SchurPreconditioner::kBlockJacobi}) {
+      if (m != SchurMethod::kPcg && pre == SchurPreconditioner::kBlockJacobi) continue;
+      SchurOptions o;
+      o.method = m, o.preconditioner = pre;
+      o.pcg_tolerance = 1e-12, o.pcg_q_tolerance = 0.0;
+      for (int threads : {1, 2}) {
+        ThreadPool pool(threads);
+        SchurComplementSolver solver(s.eliminate, pool, o);
+        solver.analyze(s.H);
+        Eigen::VectorXd x_fused(b.size()), x_plain(b.size());
+        ASSERT_TRUE(solver.factorize(s.H));
+        EXPECT_THROW(solver.solve_factored_rhs(x_fused.data()), std::logic_error);
+        solver.solve(b.data(), x_plain.data());
+        ASSERT_TRUE(solver.factorize(s.H, b.data()));
+        solver.solve_factored_rhs(x_fused.data());
+        const std::string what = std::string(to_string(m)) + " threads " + std::to_string(threads);
+        EXPECT_LT((x_fused - ref).norm(), 1e-8 * ref.norm()) << what;
+        EXPECT_LT((x_fused - x_plain).norm(), 1e-12 * ref.norm()) << what;
+      }
+    }
+  }
+}
+
+// The Nash-Sofer test stops PCG well before a tight residual tolerance would, with a step
+// whose model value is within its tolerance of the exact one.
+TEST(SchurComplement, PcgQuadraticModelTestStopsEarlyWithAGoodStep) {
+  TestSystem s = make_system(400, 3, std::vector<int>(30, 9), 3);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(s.dense.rows(), -1.0, 1.0);
+  const Eigen::VectorXd ref = s.dense.llt().solve(b);
+  auto model = [&](const Eigen::VectorXd& x) { return 0.5 * x.dot(s.dense * x) - b.dot(x); };
+  ThreadPool pool(1);
+  SchurOptions tight;
+  tight.method = SchurMethod::kPcg, tight.pcg_tolerance = 1e-10, tight.pcg_q_tolerance = 0.0;
+  SchurOptions ns = tight;
+  ns.pcg_q_tolerance = 0.1;
+  int its[2];
+  Eigen::VectorXd x[2];
+  for (int k = 0; k < 2; ++k) {
+    SchurComplementSolver solver(s.eliminate, pool, k == 0 ? tight : ns);
+    solver.analyze(s.H);
+    ASSERT_TRUE(solver.factorize(s.H, b.data()));
+    x[k].resize(b.size());
+    solver.solve_factored_rhs(x[k].data());
+    its[k] = solver.last_pcg_iterations();
+  }
+  EXPECT_LT(its[1], its[0]);
+  EXPECT_LT((x[0] - ref).norm(), 1e-7 * ref.norm());
+  // Q(x) − Q* = ½‖x − x*‖²_H ≥ 0; the truncated step keeps most of the model decrease.
+  EXPECT_LT(model(x[1]) - model(ref), 0.1 * std::abs(model(ref)));
 }
 
 TEST(SchurComplement, ResultsDoNotDependOnTheThreadCount) {
