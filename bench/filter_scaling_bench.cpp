@@ -175,7 +175,8 @@ std::vector<TimingSeries> combined_series(const std::string& dir) {
   std::ifstream fast(dir + "/fastslam_scaling.json");
   if (fast) {
     std::map<std::string, TimingSeries> by_algorithm;
-    for (const auto& r : nlohmann::json::parse(fast)["results"]) {
+    const nlohmann::json doc = nlohmann::json::parse(fast);
+    for (const auto& r : doc["results"]) {
       TimingSeries& ts = by_algorithm[r["algorithm"].get<std::string>()];
       ts.label = r["algorithm"].get<std::string>() + " M=" + std::to_string(r["particles"].get<int>()) + ", prior map";
       ts.landmarks.push_back(r["landmarks"]), ts.ms.push_back(r["time_per_step_ms"]);
