@@ -53,8 +53,18 @@ struct RenderedRun {
     o.frontend.tracker.klt_window = 15;
     return o;
   }
+  // Frames are rendered once and reused by every front-end run of the test.
+  mutable std::vector<GrayImage> images, labels;
   VisualInertialSim track(int baseline, ImageVioReport* report) const {
-    return track_images(sim, rendered_frames(sim, *renderer, nullptr), walker_speeds(scene), vio(baseline), report);
+    if (images.empty()) {
+      images.resize(sim.frames.size()), labels.resize(sim.frames.size());
+      const FrameImageSource render = rendered_frames(sim, *renderer, nullptr);
+      for (std::size_t k = 0; k < sim.frames.size(); ++k) render(k, &images[k], &labels[k]);
+    }
+    const FrameImageSource cached = [this](std::size_t k, GrayImage* image, GrayImage* label) {
+      *image = images[k], *label = labels[k];
+    };
+    return track_images(sim, cached, walker_speeds(scene), vio(baseline), report);
   }
 };
 
