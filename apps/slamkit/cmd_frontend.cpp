@@ -190,6 +190,12 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--max-residual-ratio", o->tracker.max_residual_ratio,
                   "drop tracks whose KLT residual exceeds this x the median (0: off)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--ambiguity", o->tracker.ambiguity_px,
+                  "under large motion drop tracks whose two KLT candidates lie this far apart with similar residuals (px; 0: off)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--ambiguity-ratio", o->tracker.ambiguity_ratio,
+                  "with --ambiguity: residual ratio min/max above which two candidates count as equally good")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   sub->add_option("--threshold", o->filter.threshold_px, "epipolar distance above which a feature is dynamic (px)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--ransac-threshold", o->filter.ransac_threshold_px, "RANSAC inlier distance (px)")

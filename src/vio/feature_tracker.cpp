@@ -109,8 +109,15 @@ TrackingResult FeatureTracker::track(const GrayImage& frame) {
           std::vector<float> err2;
           cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, q1, status2, err2, window, o.klt_pyramid_levels, term,
                                    cv::OPTFLOW_USE_INITIAL_FLOW);
-          for (std::size_t i = 0; i < p0.size(); ++i)
+          for (std::size_t i = 0; i < p0.size(); ++i) {
+            const bool both = status[i] && status2[i];
+            if (both && o.ambiguity_px > 0.0 && cv::norm(p1[i] - q1[i]) > o.ambiguity_px &&
+                std::min(err[i], err2[i]) > float(o.ambiguity_ratio) * std::max(err[i], err2[i])) {
+              status[i] = 0;  // two motifs fit about equally well: ambiguous
+              continue;
+            }
             if (status2[i] && (!status[i] || err2[i] < err[i])) p1[i] = q1[i], status[i] = 1, err[i] = err2[i];
+          }
         }
       }
     }

@@ -59,4 +59,10 @@ grep -v "gyroscope_noise_density" "$data/vio/tumvi/calib/openvins_kalibr_imu_cha
 "$slamkit" vio --sim room1 --duration 3 --data "$work/d" >"$work/e5.txt" 2>&1
 [[ $? -eq 1 ]] && grep -q "openvins_kalibr_imu_chain.yaml" "$work/e5.txt" && grep -q "gyroscope_noise_density" "$work/e5.txt" \
   || fail "calibration without a field: $(cat "$work/e5.txt")"
+# --images needs a named sequence (the renderer rebuilds its scene); a folder of another run is refused.
+"$slamkit" vio --sim "$work/r.sim" --images >"$work/e6.txt" 2>&1
+[[ $? -eq 1 ]] && grep -q "named sequence" "$work/e6.txt" || fail "--images on a file: $(cat "$work/e6.txt")"
+mkdir -p "$work/noimg/mav0/cam0/data" && echo "#timestamp [ns],filename" >"$work/noimg/mav0/cam0/data.csv"
+"$slamkit" vio --sim room1 --duration 2 --data "$data" --images --image-dir "$work/noimg" >"$work/e7.txt" 2>&1
+[[ $? -eq 1 ]] && grep -q "noimg" "$work/e7.txt" || fail "--image-dir of another run: $(cat "$work/e7.txt")"
 echo "vio CLI ok"

@@ -108,6 +108,29 @@ TEST(Report, SimulatedRunsGetTheirTable) {
   EXPECT_NE(h.find("<td>0.410</td>"), std::string::npos);  // M min
 }
 
+// `slamkit frontend --json` documents and the "frontend" object of `slamkit vio --images` runs.
+TEST(Report, FrontEndRunsGetTheirTable) {
+  const nlohmann::json front = {{"kind", "frontend"}, {"input", "aloeL.jpg aloeR.jpg"}, {"camera", "none"}, {"frames", 2},
+                                {"static_ratio", {{"mean", 0.86}, {"min", 0.86}}}, {"share_dynamic", 0.14},
+                                {"frames_too_few_matches", 0}, {"time_per_frame_ms", {{"mean", 12.5}, {"max", 12.5}}}};
+  nlohmann::json vio = eval_doc(MetricKind::kAte, "vio room1 images", 0.02);
+  vio["frontend"] = {{"kind", "frontend"}, {"image_source", "rendered in memory"}, {"frames", 600},
+                     {"static_ratio", {{"mean", 0.93}, {"min", 0.52}}}, {"dynamic_precision", 0.912},
+                     {"dynamic_recall", 0.834}, {"tracking_ms_per_frame", 9.0}, {"classification_ms_per_frame", 2.0},
+                     {"image_ms_per_frame", 40.0}};
+  const std::string h = render_html_report({{"a.json", front}, {"b.json", vio}}, {});
+  EXPECT_EQ(count(h, "id=\"frontend\""), 1);
+  EXPECT_EQ(count(h, "href=\"#frontend\""), 1);
+  EXPECT_NE(h.find("2 front-end"), std::string::npos);
+  EXPECT_NE(h.find("<td>14.0</td>"), std::string::npos);   // dynamic share [%]
+  EXPECT_NE(h.find("<td>0.912</td>"), std::string::npos);  // precision
+  EXPECT_NE(h.find("<td>11.0</td>"), std::string::npos);   // tracking + classification
+  EXPECT_NE(h.find("rendered in memory"), std::string::npos);
+  nlohmann::json bad = front;
+  bad["static_ratio"].erase("mean");
+  EXPECT_THROW(render_html_report({{"a.json", bad}}, {}), InputError);
+}
+
 TEST(Report, UnknownKindsAndMalformedRunsAreClearErrors) {
   auto expect_error = [](const nlohmann::json& doc, const std::string& field) {
     try {

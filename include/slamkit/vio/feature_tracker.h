@@ -36,6 +36,12 @@ struct FeatureTrackerOptions {
   /// If the median KLT flow exceeds this, track again from the median flow and keep the result
   /// with the lower patch residual (repeated textures under large motion); ≤ 0 disables it.
   double median_flow_retry_px = 8.0;
+  /// With the retry: if the two KLT candidates (from zero flow and from the median flow) both
+  /// converge, lie more than this apart and their residuals are within ambiguity_ratio of each
+  /// other, the match is ambiguous (two motifs of a repeated texture fit) and the track is lost
+  /// (counted in lost_klt); ≤ 0 disables it.
+  double ambiguity_px = 0.0;
+  double ambiguity_ratio = 0.5;  ///< min(residual) / max(residual) above this ⇒ ambiguous
   /// > 0: a track whose KLT photometric residual exceeds this × the frame's median residual is
   /// lost (counted in lost_klt). Off by default: it removes KLT mismatches on rigid scenes but
   /// also the tracks on deforming movers (docs/frontend.md).

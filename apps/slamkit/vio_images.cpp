@@ -1,0 +1,76 @@
+// The image path of `slamkit vio` (see vio_images.h).
+#include "vio_images.h"
+
+#include <cstdio>
+
+#include "cli_util.h"
+#include "slamkit/io/visual_inertial_sequence_io.h"
+#include "slamkit/sim/visual_inertial_sequences.h"
+
+namespace slamkit::cli {
+
+VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log) {
+  if (!is_visual_inertial_sequence_name(o.sim))
+    throw InputError(o.sim, 0, "sim", "--images needs a named sequence (room1..room4, euroc:...): the renderer rebuilds its scene");
+  VisualInertialSimOptions opt;
+  opt.seed = o.seed;
+  opt.dynamic = parse_dynamic_level(o.dynamic);
+  opt.duration = o.duration;
+  const SequenceSimulation run = simulate_visual_inertial_sequence(o.sim, o.data, opt);
+  const VisualInertialSim& sim = run.sim;
+  const RenderedScene scene = build_rendered_scene(sim, *run.spline, run.options);
+  ImageRendererOptions ro;
+  ro.seed = run.options.seed;
+  ro.mask_radius_px = run.sequence.mask_radius_px;
+  const ImageRenderer renderer(scene, *sim.camera, ro);
+  const ThreadPool pool(o.threads);
+  ImageVioReport report;
+  report.image_source = o.image_dir.empty() ? "rendered in memory" : o.image_dir;
+  const FrameImageSource source = o.image_dir.empty() ? rendered_frames(sim, renderer, &pool) : folder_frames(sim, o.image_dir);
+  log << "vio: front end on " << sim.frames.size() << " " << renderer.width() << "x" << renderer.height() << " images ("
+      << report.image_source << ", " << scene.walkers.size() << " walkers), epipolar baseline "
+      << o.vio.frontend.baseline_frames << " frames\n";
+  const Stopwatch clock;
+  VisualInertialSim tracked = track_images(sim, source, walker_speeds(scene), o.vio, &report, [&](std::size_t k, std::size_t n) {
+    if (o.quiet || (k % 100 != 0 && k + 1 != n)) return;
+    char line[160];
+    std::snprintf(line, sizeof line, "  front end %5zu/%zu  %.1f s elapsed\n", k + 1, n, clock.seconds());
+    log << line << std::flush;
+  });
+  const DetectionScore& s = report.score;
+  const double duration = sim.frames.back().t - sim.frames.front().t;
+  *frontend = {{"kind", "frontend"},
+               {"image_source", report.image_source},
+               {"frames", report.frames},
+               {"features_per_frame", report.features_per_frame},
+               {"baseline_frames", o.vio.frontend.baseline_frames},
+               {"sticky_dynamic", o.vio.frontend.sticky_dynamic},
+               {"threshold_px", o.vio.frontend.filter.threshold_px},
+               {"pixel_sigma", o.vio.pixel_sigma},
+               {"dynamic_precision", s.precision()},
+               {"dynamic_recall", s.recall()},
+               {"score", {{"true_positive", s.true_positive}, {"false_positive", s.false_positive},
+                          {"false_negative", s.false_negative}, {"true_negative", s.true_negative},
+                          {"excluded_slow", s.excluded}, {"min_speed_mps", o.vio.min_speed_mps}}},
+               {"static_ratio", {{"mean", report.static_ratio_mean}, {"min", report.static_ratio_min}}},
+               {"frames_too_few_matches", report.frames_too_few_matches},
+               {"frames_no_fundamental", report.frames_no_fundamental},
+               {"frames_static_camera", report.frames_static_camera},
+               {"image_ms_per_frame", report.image_ms_per_frame},
+               {"tracking_ms_per_frame", report.tracking_ms_per_frame},
+               {"classification_ms_per_frame", report.classification_ms_per_frame},
+               {"image_time_s", report.image_s},
+               {"frontend_time_s", report.frontend_s},
+               {"frontend_realtime_factor", duration / std::max(1e-9, report.frontend_s)}};
+  char line[240];
+  std::snprintf(line, sizeof line,
+                "front end: dynamic precision %.3f recall %.3f (tp %ld fp %ld fn %ld), M mean %.3f min %.3f, images %.1f ms/frame,"
+                " tracking %.1f + classification %.1f ms/frame\n",
+                s.precision(), s.recall(), s.true_positive, s.false_positive, s.false_negative, report.static_ratio_mean,
+                report.static_ratio_min, report.image_ms_per_frame, report.tracking_ms_per_frame,
+                report.classification_ms_per_frame);
+  log << line;
+  return tracked;
+}
+
+}  // namespace slamkit::cli

@@ -1,0 +1,30 @@
+// `slamkit vio --sim NAME --images [--image-dir DIR]` (issue 13): renders the frames of the named
+// sequence in memory (or reads the folder `slamkit simulate --images DIR` wrote for the same
+// seed / dynamic level / duration), runs the DVI front end on the pixels (vio/image_vio.h) and
+// returns the run whose observations are the front end's tracks, with the front end's JSON
+// (kind "frontend" keys: detection score against the pixel labels, M, timings) for `slamkit vio`.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+
+#include "slamkit/sim/visual_inertial_sim.h"
+#include "slamkit/vio/image_vio.h"
+
+namespace slamkit::cli {
+
+struct VioImageCliOptions {
+  std::string sim, data, image_dir;
+  std::uint64_t seed = 1;
+  std::string dynamic = "none";
+  double duration = 0.0;
+  int threads = 0;  ///< renderer threads (0: hardware)
+  bool quiet = false;
+  ImageVioOptions vio;
+};
+
+/// The tracked run; *frontend receives the JSON object (stored under "frontend" by the caller).
+VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log);
+
+}  // namespace slamkit::cli

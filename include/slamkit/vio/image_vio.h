@@ -1,0 +1,67 @@
+// VIO on rendered images (issue 13, `slamkit vio --sim NAME --images`): the frames of a simulated
+// run are rendered (in memory, or read from a folder written by `slamkit simulate --images`),
+// the DVI front end (vio/image_frontend.h) tracks and classifies their pixels, and its tracks
+// replace the simulator's ideal features: the returned run has, per frame, one observation per
+// tracked feature (track id = feature id, uv = the raw fisheye pixel, which the estimator
+// undistorts to a bearing with the camera model; dynamic = flagged dynamic by the epipolar test,
+// unknown counted as static). The IMU, the truth and the camera are the simulator's.
+// Every classified feature is scored against the label image at its pixel (vio/frontend_scoring.h,
+// objects slower than min_speed_mps excluded). Image time (rendering or PNG reading) is timed
+// apart from tracking and classification.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "slamkit/core/parallel.h"
+#include "slamkit/sim/image_renderer.h"
+#include "slamkit/sim/rendered_scene.h"
+#include "slamkit/sim/visual_inertial_sim.h"
+#include "slamkit/vio/frontend_scoring.h"
+#include "slamkit/vio/image_frontend.h"
+
+namespace slamkit {
+
+struct ImageVioOptions {
+  ImageFrontendOptions frontend;
+  /// σ of the front end's pixels in the estimator [px] (KLT tracks; replaces the simulator's).
+  double pixel_sigma = 1.0;
+  double mask_margin_px = 8.0;  ///< corners are detected this far inside the fisheye mask circle
+  double min_speed_mps = 0.3;   ///< slower objects are not scored (issue 13)
+};
+
+struct ImageVioReport {
+  DetectionScore score;                 ///< over all frames
+  double static_ratio_mean = 1.0, static_ratio_min = 1.0;
+  std::size_t frames = 0;
+  std::size_t frames_too_few_matches = 0, frames_no_fundamental = 0, frames_static_camera = 0;
+  double features_per_frame = 0.0;
+  double image_ms_per_frame = 0.0;      ///< rendering (or reading the PNGs), wall clock
+  double tracking_ms_per_frame = 0.0, classification_ms_per_frame = 0.0;
+  double image_s = 0.0, frontend_s = 0.0;  ///< totals
+  std::string image_source;             ///< "rendered in memory" or the folder
+};
+
+/// image (and labels) of frame k of the run; labels may be left empty (then nothing is scored).
+using FrameImageSource = std::function<void(std::size_t k, GrayImage* image, GrayImage* labels)>;
+
+/// Runs the front end on every frame and returns the run with its tracks (see above).
+/// progress(k, n) after every frame (may be empty). Throws InputError for a run without frames
+/// or camera; the front end's std::invalid_argument (frame size) becomes InputError naming frame k.
+VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSource& source,
+                               const std::map<int, double>& label_speed_mps, const ImageVioOptions& options,
+                               ImageVioReport* report, const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// Object id -> speed of the scene's walkers (the scoring's speed map).
+std::map<int, double> walker_speeds(const RenderedScene& scene);
+
+/// Frames rendered in memory by `renderer` (the scene it draws must outlive the source).
+FrameImageSource rendered_frames(const VisualInertialSim& sim, const ImageRenderer& renderer, const ThreadPool* pool);
+
+/// Frames read from a folder written by `slamkit simulate --images DIR` for the same run: its
+/// cam0 stamps must be the run's frame stamps (InputError naming DIR/mav0/cam0/data.csv if not).
+FrameImageSource folder_frames(const VisualInertialSim& sim, const std::string& dir);
+
+}  // namespace slamkit

@@ -1,0 +1,124 @@
+// The front end on the images of a simulated run, its tracks as the run's observations (see the header).
+#include "slamkit/vio/image_vio.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "slamkit/core/error.h"
+#include "slamkit/vio/image_io.h"
+
+namespace slamkit {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+LabelImage to_label_image(const GrayImage& g) {
+  LabelImage l(g.width, g.height);
+  std::copy(g.pixels.begin(), g.pixels.end(), l.labels.begin());
+  return l;
+}
+
+}  // namespace
+
+std::map<int, double> walker_speeds(const RenderedScene& scene) {
+  std::map<int, double> speeds;
+  for (const SceneWalker& w : scene.walkers) speeds[w.id] = w.speed;  // ids may repeat mod 255: last wins
+  return speeds;
+}
+
+FrameImageSource rendered_frames(const VisualInertialSim& sim, const ImageRenderer& renderer, const ThreadPool* pool) {
+  return [&sim, &renderer, pool](std::size_t k, GrayImage* image, GrayImage* labels) {
+    const SimFrame& f = sim.frames.at(k);
+    renderer.render(f.t, frame_camera_pose(sim, f), image, labels, pool);
+  };
+}
+
+FrameImageSource folder_frames(const VisualInertialSim& sim, const std::string& dir) {
+  auto seq = std::make_shared<ImageSequence>(read_image_sequence(dir));
+  const std::string csv = dir + "/mav0/cam0/data.csv";
+  if (seq->frames.size() != sim.frames.size())
+    throw InputError(csv, 0, "frames", std::to_string(seq->frames.size()) + " images but the run " + sim.source + " has " +
+                                           std::to_string(sim.frames.size()) + " frames (same --seed, --dynamic, --duration?)");
+  for (std::size_t k = 0; k < sim.frames.size(); ++k)
+    if (seq->frames[k].t_ns != stamp_ns(sim.frames[k].t))
+      throw InputError(csv, static_cast<int>(k + 2), "timestamp",
+                       "image stamp " + std::to_string(seq->frames[k].t_ns) + " ns is not the run's frame stamp " +
+                           std::to_string(stamp_ns(sim.frames[k].t)) + " ns");
+  return [seq](std::size_t k, GrayImage* image, GrayImage* labels) {
+    const ImageSequenceFrame& f = seq->frames.at(k);
+    *image = read_png(f.image_path);
+    if (labels) *labels = f.label_path.empty() ? GrayImage{} : read_png(f.label_path);
+  };
+}
+
+VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSource& source,
+                               const std::map<int, double>& label_speed_mps, const ImageVioOptions& options,
+                               ImageVioReport* report, const std::function<void(std::size_t, std::size_t)>& progress) {
+  if (!sim.camera) throw InputError(sim.source, 0, "camera", "the run has no camera");
+  if (sim.frames.empty()) throw InputError(sim.source, 0, "frames", "the run has no frames");
+  const Eigen::VectorXd K = sim.camera->intrinsics();
+  ImageFrontend frontend(options.frontend, sim.camera,
+                         circular_mask(sim.camera->width(), sim.camera->height(), K(2), K(3), sim.mask_radius_px,
+                                       options.mask_margin_px));
+  DetectionScoreOptions so;
+  so.label_speed_mps = label_speed_mps;
+  so.min_speed_mps = options.min_speed_mps;
+  ImageVioReport r;
+  VisualInertialSim out = sim;
+  out.landmarks.clear();  // the tracks are not the simulator's landmarks
+  out.pixel_noise_sigma = options.pixel_sigma;
+  GrayImage image, labels;
+  double m_sum = 0.0, features = 0.0;
+  std::size_t m_frames = 0;
+  for (std::size_t k = 0; k < sim.frames.size(); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    source(k, &image, &labels);
+    r.image_s += ms_since(t0) * 1e-3;
+    FrontendFrameResult f;
+    try {
+      f = frontend.process(image);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(sim.source, 0, "image", "frame " + std::to_string(k) + ": " + e.what());
+    }
+    r.frontend_s += (f.tracking_ms + f.classification_ms) * 1e-3;
+    r.tracking_ms_per_frame += f.tracking_ms, r.classification_ms_per_frame += f.classification_ms;
+    std::vector<SimObservation>& obs = out.frames[k].observations;
+    obs.clear();
+    std::vector<Eigen::Vector2d> uv;
+    std::vector<FeatureMotion> flags;
+    for (const FrontendFeature& x : f.features) {
+      SimObservation o;
+      o.track_id = x.id, o.landmark_id = -1, o.uv = x.uv;
+      o.dynamic = x.motion == FeatureMotion::kDynamic;
+      obs.push_back(o);
+      if (x.motion != FeatureMotion::kUnknown) uv.push_back(x.uv), flags.push_back(x.motion);
+    }
+    features += static_cast<double>(f.features.size());
+    if (!labels.empty() && labels.width == image.width && labels.height == image.height)
+      r.score += score_against_labels(uv, flags, to_label_image(labels), so);
+    if (k > 0) {  // the first frame has nothing to classify
+      m_sum += f.static_ratio, ++m_frames;
+      r.static_ratio_min = std::min(r.static_ratio_min, f.static_ratio);
+      r.frames_too_few_matches += f.status == ClassificationStatus::kTooFewMatches;
+      r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
+      r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
+    }
+    if (progress) progress(k, sim.frames.size());
+  }
+  const double n = static_cast<double>(sim.frames.size());
+  r.frames = sim.frames.size();
+  r.static_ratio_mean = m_frames > 0 ? m_sum / m_frames : 1.0;
+  r.features_per_frame = features / n;
+  r.image_ms_per_frame = 1e3 * r.image_s / n;
+  r.tracking_ms_per_frame /= n, r.classification_ms_per_frame /= n;
+  if (report) {
+    r.image_source = report->image_source;
+    *report = r;
+  }
+  return out;
+}
+
+}  // namespace slamkit

@@ -1,0 +1,154 @@
+// The DVI front end on rendered images (vio/image_frontend.h, vio/image_vio.h), at a low
+// resolution (a 256×256 fisheye with TUM-VI's distortion, half its focal length) so the test is
+// fast: the long-baseline epipolar test finds more of the walkers than the frame-to-frame one
+// at a useful precision, the front end's tracks drive the sliding window through the start-up and
+// a few seconds of tracking, a folder of another run and bad options are clear errors.
+#include "slamkit/vio/image_vio.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "slamkit/core/error.h"
+#include "slamkit/vio/image_io.h"
+#include "slamkit/vio/vio_sim_runner.h"
+#include "testing/tumvi_rig.h"
+
+namespace slamkit {
+namespace {
+
+std::shared_ptr<CameraModel> small_fisheye() {
+  return std::make_shared<EquidistantCamera>(95.49, 95.49, 127.47, 128.45, 0.0034823894022493434, 0.0007150348452162257,
+                                             -0.0020532361418706202, 0.00020293673591811182, 256, 256);
+}
+
+struct RenderedRun {
+  BSplineTrajectory spline;
+  VisualInertialSimOptions options;
+  VisualInertialSim sim;
+  RenderedScene scene;
+  std::unique_ptr<ImageRenderer> renderer;
+  RenderedRun(double duration, std::uint64_t seed, DynamicLevel level = DynamicLevel::kHigh)
+      : spline(testing::circle_path(duration + 1.0)) {
+    options.seed = seed;
+    options.dynamic = level;
+    options.duration = duration;
+    options.mask_radius_px = 150.0;
+    sim = simulate_visual_inertial(spline, small_fisheye(), testing::tumvi_T_cam_imu(), options);
+    sim.source = "rendered test run";
+    RenderedSceneOptions so;
+    so.texture_size = 256;
+    so.texel_size = 0.012;  // half the resolution: coarser texels keep the texture trackable
+    scene = build_rendered_scene(sim, spline, options, so);
+    ImageRendererOptions ro;
+    ro.seed = seed;
+    ro.mask_radius_px = 150.0;
+    renderer = std::make_unique<ImageRenderer>(scene, *sim.camera, ro);
+  }
+  ImageVioOptions vio(int baseline) const {
+    ImageVioOptions o;
+    o.frontend.baseline_frames = baseline;
+    o.frontend.tracker.max_features = 100;
+    o.frontend.tracker.min_distance_px = 15.0;
+    o.frontend.tracker.klt_window = 15;
+    return o;
+  }
+  // Frames are rendered once and reused by every front-end run of the test.
+  mutable std::vector<GrayImage> images, labels;
+  VisualInertialSim track(int baseline, ImageVioReport* report) const {
+    if (images.empty()) {
+      images.resize(sim.frames.size()), labels.resize(sim.frames.size());
+      const FrameImageSource render = rendered_frames(sim, *renderer, nullptr);
+      for (std::size_t k = 0; k < sim.frames.size(); ++k) render(k, &images[k], &labels[k]);
+    }
+    const FrameImageSource cached = [this](std::size_t k, GrayImage* image, GrayImage* label) {
+      *image = images[k], *label = labels[k];
+    };
+    return track_images(sim, cached, walker_speeds(scene), vio(baseline), report);
+  }
+};
+
+TEST(ImageFrontend, LongBaselineFindsMoreOfTheMovers) {
+  const RenderedRun run(4.0, 2);
+  ImageVioReport one, four;
+  run.track(1, &one);
+  const VisualInertialSim tracked = run.track(4, &four);
+  const DetectionScore& a = one.score;
+  const DetectionScore& b = four.score;
+  std::printf("k=1: precision %.3f recall %.3f (tp %ld fp %ld fn %ld tn %ld); k=4: precision %.3f recall %.3f (tp %ld fp %ld fn %ld tn %ld)\n",
+              a.precision(), a.recall(), a.true_positive, a.false_positive, a.false_negative, a.true_negative,
+              b.precision(), b.recall(), b.true_positive, b.false_positive, b.false_negative, b.true_negative);
+  ASSERT_GT(b.true_positive + b.false_negative, 100) << "the walkers must be seen";
+  // Measured (seed 2): k = 1 precision 0.50 recall 0.77, k = 4 precision 0.40 recall 0.89. The
+  // walkers of this small room pass 0.6-1.5 m from the camera and fill much of the 256-px image;
+  // many false alarms sit on their silhouettes (corners of walker against background, labelled
+  // static at the pixel). Random flags at this share of movers would give precision ~0.15.
+  EXPECT_GT(b.recall(), a.recall() + 0.05);
+  EXPECT_GT(b.precision(), 0.3);
+  EXPECT_LT(four.static_ratio_min, 1.0);
+  // The tracks are the run's observations, with the flags.
+  ASSERT_EQ(tracked.frames.size(), run.sim.frames.size());
+  std::size_t flagged = 0, observations = 0;
+  for (const SimFrame& f : tracked.frames)
+    for (const SimObservation& o : f.observations) flagged += o.dynamic, ++observations;
+  EXPECT_EQ(flagged, static_cast<std::size_t>(b.true_positive + b.false_positive));
+  EXPECT_GT(observations, 50 * tracked.frames.size());
+  EXPECT_TRUE(tracked.landmarks.empty());
+}
+
+TEST(ImageVio, FrontEndTracksDriveTheSlidingWindow) {
+  const RenderedRun run(7.0, 3, DynamicLevel::kLow);
+  ImageVioReport report;
+  const VisualInertialSim tracked = run.track(4, &report);
+  SlidingWindowOptions so;
+  so.dvi.enabled = true;
+  const VioRunResult r = run_vio_on_sim(tracked, so);
+  EXPECT_EQ(r.startup.method, "visual-inertial initializer");
+  ASSERT_EQ(r.estimate.size(), r.truth.size());
+  double worst = 0.0;
+  for (std::size_t k = 0; k < r.estimate.size(); ++k)
+    worst = std::max(worst, (r.estimate[k].T_world_body.translation() - r.truth[k].T_world_body.translation()).norm());
+  std::printf("initialized at %.2f s (%s), worst position error %.3f m, %zu keyframes\n", r.initialized_at_s,
+              r.startup.message.c_str(), worst, r.keyframes);
+  // Measured 0.64 m (no alignment; the circle is 4 m across): the 95-px focal length of this
+  // low-resolution camera gives a poor start-up scale (1.30 here) that the window corrects
+  // only slowly. The bound catches a pipeline that loses the tracks (errors of metres).
+  EXPECT_LT(worst, 1.0);
+  EXPECT_GT(r.keyframes, 10u);
+  EXPECT_GT(report.features_per_frame, 50.0);
+}
+
+TEST(ImageVio, AFolderOfAnotherRunAndBadOptionsAreClearErrors) {
+  const RenderedRun run(1.0, 1);
+  const std::string dir = (std::filesystem::temp_directory_path() / "slamkit_image_vio_test").string();
+  std::filesystem::remove_all(dir);
+  {
+    ImageSequenceWriter w(dir);
+    GrayImage image, labels;
+    for (std::size_t k = 0; k < 3; ++k) {
+      run.renderer->render(run.sim.frames[k].t, frame_camera_pose(run.sim, run.sim.frames[k]), &image, &labels);
+      w.add_frame(run.sim.frames[k].t, image, &labels);
+    }
+    w.finish();
+  }
+  try {
+    folder_frames(run.sim, dir);
+    FAIL() << "a folder of 3 frames for a run of " << run.sim.frames.size();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("data.csv"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+  ImageVioOptions bad = run.vio(0);
+  EXPECT_THROW(track_images(run.sim, rendered_frames(run.sim, *run.renderer, nullptr), {}, bad, nullptr), std::invalid_argument);
+  // A frame of another size: the front end's error becomes an InputError naming the frame.
+  int calls = 0;
+  const FrameImageSource shrinking = [&](std::size_t, GrayImage* image, GrayImage* labels) {
+    *image = GrayImage(calls == 0 ? 256 : 128, calls == 0 ? 256 : 128, 100);
+    labels->pixels.clear();
+    ++calls;
+  };
+  EXPECT_THROW(track_images(run.sim, shrinking, {}, run.vio(4), nullptr), InputError);
+}
+
+}  // namespace
+}  // namespace slamkit
