@@ -67,7 +67,7 @@ TEST(SlidingWindowEstimator, ConvergesOnASyntheticScene) {
 }
 
 // The default keyframe rule (rotation-compensated parallax): a third of the keyframes, each
-// spanning 0.25–0.5 s of IMU. Measured: RMSE 0.036 m, b_g 8e-4, b_a 0.006, up error 0.022.
+// spanning ≈ 0.25 s of IMU (5 frames). Measured: RMSE 0.036 m, b_g 8e-4, b_a 0.006, up 0.022.
 TEST(SlidingWindowEstimator, ConvergesWithRotationCompensatedKeyframes) {
   const SceneRun r = run_scene(true);
   EXPECT_LT(r.keyframes, 60);
