@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -48,15 +49,56 @@ struct DenseWindowSolver::Linearization {
   Eigen::MatrixXd H;  // internal order, upper blocks valid (diagonal blocks full)
   Eigen::VectorXd g;
   std::vector<double> hff, gf;  // per feature
-  std::vector<int> offset;      // feature f's states are frames[offset[f] .. offset[f + 1])
+  // Feature f's states are frames[offset[f] .. offset[f] + count[f]) (slots for 1 + its
+  // observations are reserved, so each feature writes its own range in any block order).
+  std::vector<int> offset, count;
   std::vector<int> frames;
   std::vector<Vector6d> w;      // w_i = Σ J_iᵀ J_ρ per (feature, state)
   std::vector<char> touched;    // per state: some factor of the system acts on it
+  std::vector<int> block_begin; // feature blocks [block_begin[b], block_begin[b + 1])
 };
 
+namespace {
+
+// Fixed partition of the features into kBlocks blocks of about equal observation count. Each
+// block accumulates into its own buffers, summed in block order afterwards, so the result is
+// the same for any number of threads (the partition never depends on it).
+constexpr int kBlocks = 4;
+
+std::vector<int> feature_blocks(const std::vector<WindowFeature>& features) {
+  std::size_t total = 0;
+  for (const WindowFeature& f : features) total += 1 + f.obs.size();
+  std::vector<int> begin(kBlocks + 1, static_cast<int>(features.size()));
+  begin[0] = 0;
+  std::size_t acc = 0;
+  int b = 1;
+  for (std::size_t f = 0; f < features.size() && b < kBlocks; ++f) {
+    acc += 1 + features[f].obs.size();
+    while (b < kBlocks && acc * kBlocks >= total * b) begin[b++] = static_cast<int>(f + 1);
+  }
+  return begin;
+}
+
+// Runs fn(b) for every block b on the pool (or serially without one).
+void for_blocks(const ThreadPool* pool, const std::function<void(int)>& fn) {
+  if (!pool || pool->threads() <= 1) {
+    for (int b = 0; b < kBlocks; ++b) fn(b);
+    return;
+  }
+  pool->parallel_for(kBlocks, [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b < b1; ++b) fn(static_cast<int>(b));
+  }, 1);
+}
+
+}  // namespace
+
 DenseWindowSolver::DenseWindowSolver(std::shared_ptr<const CameraModel> camera, const SE3& T_imu_cam, double pixel_sigma,
-                                     std::shared_ptr<const RobustKernel> kernel)
-    : camera_(std::move(camera)), T_imu_cam_(T_imu_cam), inv_sigma_(1.0 / pixel_sigma), kernel_(std::move(kernel)) {
+                                     std::shared_ptr<const RobustKernel> kernel, const ThreadPool* pool)
+    : camera_(std::move(camera)),
+      T_imu_cam_(T_imu_cam),
+      inv_sigma_(1.0 / pixel_sigma),
+      kernel_(std::move(kernel)),
+      pool_(pool) {
   if (!camera_) throw std::invalid_argument("DenseWindowSolver: no camera model");
   if (!(pixel_sigma > 0.0)) throw std::invalid_argument("DenseWindowSolver: pixel_sigma must be positive");
 }
@@ -160,8 +202,6 @@ double DenseWindowSolver::linearize(const std::vector<ImuState>& states, const s
   lin.touched.assign(n, 0);
   lin.hff.assign(features.size(), 0.0);
   lin.gf.assign(features.size(), 0.0);
-  lin.offset.assign(1, 0);
-  lin.frames.clear(), lin.w.clear();
   double cost = 0.0;
 
   // State factors (prior, IMU) through the generic Factor::linearize, columns permuted.
@@ -227,102 +267,139 @@ double DenseWindowSolver::linearize(const std::vector<ImuState>& states, const s
     }
   }
 
-  // Reprojections: fixed-size 2×6 pose blocks and the 2×1 inverse-depth column.
+  // Reprojections: fixed-size 2×6 pose blocks and the 2×1 inverse-depth column, per feature
+  // block into that block's pose-only buffers (6n × 6n, upper blocks), then summed in order.
   const std::vector<StateFrame> sfr = state_frames(states);
   const Eigen::Matrix3d R_bc = T_imu_cam_.rotation().matrix(), R_cb = R_bc.transpose();
   const Eigen::Vector3d t_bc = T_imu_cam_.translation();
-  std::vector<int> local;
-  std::vector<Vector6d> wl;
-  for (std::size_t fi = 0; fi < features.size(); ++fi) {
-    const WindowFeature& f = features[fi];
-    if (only_first && f.anchor != 0) {
-      lin.offset.push_back(static_cast<int>(lin.frames.size()));
-      continue;
-    }
-    const StateFrame& A = sfr[f.anchor];
-    const double rho = f.inv_depth;
-    const Eigen::Vector3d P_ba = R_bc * (f.bearing / rho) + t_bc;
-    const Eigen::Vector3d P_w = A.R * P_ba + A.p;
-    const Eigen::Matrix3d Ra_skew = A.R * skew(P_ba);
-    const Eigen::Vector3d dPw_drho = A.R * (R_bc * (-f.bearing / (rho * rho)));
-    local.assign(1, f.anchor);
-    wl.assign(1, Vector6d::Zero());
-    double hff = 0.0, gf = 0.0;
-    for (const WindowObservation& o : f.obs) {
-      if (!(o.weight > 0.0)) continue;
-      const StateFrame& K = sfr[o.state];
-      const Eigen::Vector3d P_bk = K.RT * (P_w - K.p);
-      const Eigen::Vector3d P_k = R_cb * (P_bk - t_bc);
-      Eigen::Vector2d uv;
-      Eigen::Matrix<double, 2, 3> J_pi;
-      const double sw = std::sqrt(o.weight);
-      if (!camera_->project(P_k, &uv, &J_pi)) {
-        // Out of view: constant residual, no force (its cost is capped by the kernel).
-        const Eigen::Vector2d rr(kOutOfView * inv_sigma_, kOutOfView * inv_sigma_);
+  lin.offset.assign(features.size() + 1, 0);
+  lin.count.assign(features.size(), 0);
+  for (std::size_t fi = 0; fi < features.size(); ++fi)
+    lin.offset[fi + 1] = lin.offset[fi] + (only_first && features[fi].anchor != 0 ? 0 : 1 + static_cast<int>(features[fi].obs.size()));
+  lin.frames.assign(lin.offset.back(), 0);
+  lin.w.resize(lin.offset.back());
+  lin.block_begin = feature_blocks(features);
+  std::array<Eigen::MatrixXd, kBlocks> Hp;
+  std::array<Eigen::VectorXd, kBlocks> gp;
+  std::array<double, kBlocks> cost_p{};
+  std::vector<std::vector<char>> touched_p(kBlocks, std::vector<char>(n, 0));
+  for_blocks(pool_, [&](int blk) {
+    Eigen::MatrixXd& Hb = Hp[blk];
+    Eigen::VectorXd& gb = gp[blk];
+    Hb.setZero(6 * n, 6 * n);
+    gb.setZero(6 * n);
+    std::vector<char>& touched = touched_p[blk];
+    double cost_b = 0.0;
+    for (int fi = lin.block_begin[blk]; fi < lin.block_begin[blk + 1]; ++fi) {
+      const WindowFeature& f = features[fi];
+      if (only_first && f.anchor != 0) continue;
+      const StateFrame& A = sfr[f.anchor];
+      const double rho = f.inv_depth;
+      const Eigen::Vector3d P_ba = R_bc * (f.bearing / rho) + t_bc;
+      const Eigen::Vector3d P_w = A.R * P_ba + A.p;
+      const Eigen::Matrix3d Ra_skew = A.R * skew(P_ba);
+      const Eigen::Vector3d dPw_drho = A.R * (R_bc * (-f.bearing / (rho * rho)));
+      int* local = &lin.frames[lin.offset[fi]];
+      Vector6d* wl = &lin.w[lin.offset[fi]];
+      int nl = 1;
+      local[0] = f.anchor, wl[0].setZero();
+      double hff = 0.0, gf = 0.0;
+      for (const WindowObservation& o : f.obs) {
+        if (!(o.weight > 0.0)) continue;
+        const StateFrame& K = sfr[o.state];
+        const Eigen::Vector3d P_bk = K.RT * (P_w - K.p);
+        const Eigen::Vector3d P_k = R_cb * (P_bk - t_bc);
+        Eigen::Vector2d uv;
+        Eigen::Matrix<double, 2, 3> J_pi;
+        const double sw = std::sqrt(o.weight);
         double rs;
         Eigen::Matrix2d M;
-        cost += o.weight * robust_2d(kernel_.get(), rr, &rs, &M);
-        continue;
+        if (!camera_->project(P_k, &uv, &J_pi)) {
+          // Out of view: constant residual, no force (its cost is capped by the kernel).
+          const Eigen::Vector2d rr(kOutOfView * inv_sigma_, kOutOfView * inv_sigma_);
+          cost_b += o.weight * robust_2d(kernel_.get(), rr, &rs, &M);
+          continue;
+        }
+        const Eigen::Vector2d rt = (uv - o.pixel) * inv_sigma_;
+        cost_b += o.weight * robust_2d(kernel_.get(), rt, &rs, &M);
+        const Eigen::Matrix2d Mw = (sw * inv_sigma_) * M;  // whitening, kernel, weight on the raw Jacobians
+        const Eigen::Vector2d rh = (sw * rs) * rt;
+        const Eigen::Matrix<double, 2, 3> J_Pbk = Mw * J_pi * R_cb;
+        const Eigen::Matrix<double, 2, 3> J_Pw = J_Pbk * K.RT;
+        Matrix26 Ja, Jk;
+        Ja.leftCols<3>() = -J_Pw * Ra_skew;
+        Ja.rightCols<3>() = J_Pw;
+        Jk.leftCols<3>() = J_Pbk * skew(P_bk);
+        Jk.rightCols<3>() = -J_Pbk * K.RT;
+        const Eigen::Vector2d Jr = J_Pw * dPw_drho;
+        const int a = f.anchor, k = o.state;
+        Hb.block<6, 6>(6 * a, 6 * a).noalias() += Ja.transpose() * Ja;
+        Hb.block<6, 6>(6 * k, 6 * k).noalias() += Jk.transpose() * Jk;
+        if (a < k) Hb.block<6, 6>(6 * a, 6 * k).noalias() += Ja.transpose() * Jk;
+        else Hb.block<6, 6>(6 * k, 6 * a).noalias() += Jk.transpose() * Ja;
+        gb.segment<6>(6 * a).noalias() += Ja.transpose() * rh;
+        gb.segment<6>(6 * k).noalias() += Jk.transpose() * rh;
+        int ik = 1;
+        while (ik < nl && local[ik] != k) ++ik;
+        if (ik == nl) local[nl] = k, wl[nl].setZero(), ++nl;
+        wl[0].noalias() += Ja.transpose() * Jr;
+        wl[ik].noalias() += Jk.transpose() * Jr;
+        hff += Jr.squaredNorm();
+        gf += Jr.dot(rh);
+        touched[a] = touched[k] = 1;
       }
-      const Eigen::Vector2d rt = (uv - o.pixel) * inv_sigma_;
-      double rs;
-      Eigen::Matrix2d M;
-      cost += o.weight * robust_2d(kernel_.get(), rt, &rs, &M);
-      const Eigen::Matrix2d Mw = (sw * inv_sigma_) * M;  // whitening, kernel, weight on the raw Jacobians
-      const Eigen::Vector2d rh = (sw * rs) * rt;
-      const Eigen::Matrix<double, 2, 3> J_Pbk = Mw * J_pi * R_cb;
-      const Eigen::Matrix<double, 2, 3> J_Pw = J_Pbk * K.RT;
-      Matrix26 Ja, Jk;
-      Ja.leftCols<3>() = -J_Pw * Ra_skew;
-      Ja.rightCols<3>() = J_Pw;
-      Jk.leftCols<3>() = J_Pbk * skew(P_bk);
-      Jk.rightCols<3>() = -J_Pbk * K.RT;
-      const Eigen::Vector2d Jr = J_Pw * dPw_drho;
-      const int a = f.anchor, k = o.state;
-      lin.H.block<6, 6>(kS * a, kS * a).noalias() += Ja.transpose() * Ja;
-      lin.H.block<6, 6>(kS * k, kS * k).noalias() += Jk.transpose() * Jk;
-      if (a < k) lin.H.block<6, 6>(kS * a, kS * k).noalias() += Ja.transpose() * Jk;
-      else lin.H.block<6, 6>(kS * k, kS * a).noalias() += Jk.transpose() * Ja;
-      lin.g.segment<6>(kS * a).noalias() += Ja.transpose() * rh;
-      lin.g.segment<6>(kS * k).noalias() += Jk.transpose() * rh;
-      std::size_t ik = 1;
-      while (ik < local.size() && local[ik] != k) ++ik;
-      if (ik == local.size()) local.push_back(k), wl.push_back(Vector6d::Zero());
-      wl[0].noalias() += Ja.transpose() * Jr;
-      wl[ik].noalias() += Jk.transpose() * Jr;
-      hff += Jr.squaredNorm();
-      gf += Jr.dot(rh);
-      lin.touched[a] = lin.touched[k] = 1;
+      if (!std::isfinite(cost_b)) throw NumericalError("dense window: a reprojection does not evaluate to a finite number");
+      lin.hff[fi] = hff, lin.gf[fi] = gf;
+      lin.count[fi] = hff > 0.0 ? nl : 0;
     }
-    if (!std::isfinite(cost)) throw NumericalError("dense window: a reprojection does not evaluate to a finite number");
-    lin.hff[fi] = hff, lin.gf[fi] = gf;
-    if (hff > 0.0)
-      for (std::size_t i = 0; i < local.size(); ++i) lin.frames.push_back(local[i]), lin.w.push_back(wl[i]);
-    lin.offset.push_back(static_cast<int>(lin.frames.size()));
+    cost_p[blk] = cost_b;
+  });
+  for (int blk = 0; blk < kBlocks; ++blk) {
+    cost += cost_p[blk];
+    for (int i = 0; i < n; ++i) {
+      lin.touched[i] |= touched_p[blk][i];
+      lin.g.segment<6>(kS * i) += gp[blk].segment<6>(6 * i);
+      for (int j = i; j < n; ++j) lin.H.block<6, 6>(kS * i, kS * j) += Hp[blk].block<6, 6>(6 * i, 6 * j);
+    }
   }
   return cost;
 }
 
 void DenseWindowSolver::reduce(const Linearization& lin, double lambda, Eigen::MatrixXd& S, Eigen::VectorXd& s) const {
+  const int n = static_cast<int>(lin.touched.size());
   S = lin.H;
   s = lin.g;
   if (lambda > 0.0)
     for (Eigen::Index i = 0; i < S.rows(); ++i) S(i, i) += lambda * clamp_diag(lin.H(i, i));
-  for (std::size_t f = 0; f + 1 < lin.offset.size(); ++f) {
-    const int b0 = lin.offset[f], b1 = lin.offset[f + 1];
-    if (b0 == b1) continue;
-    const double h = lin.hff[f] + (lambda > 0.0 ? lambda * clamp_diag(lin.hff[f]) : 0.0);
-    const double inv = 1.0 / h;
-    for (int a = b0; a < b1; ++a) {
-      const int fa = lin.frames[a];
-      const Vector6d wa = inv * lin.w[a];
-      s.segment<6>(kS * fa).noalias() -= wa * lin.gf[f];
-      for (int b = b0; b < b1; ++b) {
-        const int fb = lin.frames[b];
-        if (fa <= fb) S.block<6, 6>(kS * fa, kS * fb).noalias() -= wa * lin.w[b].transpose();
+  // Σ_f w wᵀ / h_f and Σ_f w g_f / h_f per feature block (pose-only buffers), subtracted in block order.
+  std::array<Eigen::MatrixXd, kBlocks> Pp;
+  std::array<Eigen::VectorXd, kBlocks> pp;
+  for_blocks(pool_, [&](int blk) {
+    Eigen::MatrixXd& P = Pp[blk];
+    Eigen::VectorXd& q = pp[blk];
+    P.setZero(6 * n, 6 * n);
+    q.setZero(6 * n);
+    for (int f = lin.block_begin[blk]; f < lin.block_begin[blk + 1]; ++f) {
+      const int b0 = lin.offset[f], b1 = b0 + lin.count[f];
+      if (b0 == b1) continue;
+      const double h = lin.hff[f] + (lambda > 0.0 ? lambda * clamp_diag(lin.hff[f]) : 0.0);
+      const double inv = 1.0 / h;
+      for (int a = b0; a < b1; ++a) {
+        const int fa = lin.frames[a];
+        const Vector6d wa = inv * lin.w[a];
+        q.segment<6>(6 * fa).noalias() += wa * lin.gf[f];
+        for (int b = b0; b < b1; ++b) {
+          const int fb = lin.frames[b];
+          if (fa <= fb) P.block<6, 6>(6 * fa, 6 * fb).noalias() += wa * lin.w[b].transpose();
+        }
       }
     }
-  }
+  });
+  for (int blk = 0; blk < kBlocks; ++blk)
+    for (int i = 0; i < n; ++i) {
+      s.segment<6>(kS * i) -= pp[blk].segment<6>(6 * i);
+      for (int j = i; j < n; ++j) S.block<6, 6>(kS * i, kS * j) -= Pp[blk].block<6, 6>(6 * i, 6 * j);
+    }
   // Blocks were accumulated in the upper triangle (block row ≤ block column): mirror them.
   for (Eigen::Index j = 0; j < S.cols(); ++j)
     for (Eigen::Index i = j + 1; i < S.rows(); ++i) S(i, j) = S(j, i);
@@ -361,17 +438,25 @@ DenseWindowSummary DenseWindowSolver::optimize(std::vector<ImuState>& states, st
     // Back-substitution and the model's predicted decrease −gᵀδ + λ δᵀDδ (δ solves the damped system).
     double predicted = -lin.g.dot(dx);
     for (Eigen::Index i = 0; i < dx.size(); ++i) predicted += lambda * clamp_diag(lin.H(i, i)) * dx(i) * dx(i);
-    for (std::size_t f = 0; f < features.size(); ++f) {
-      drho[f] = 0.0;
-      const int b0 = lin.offset[f], b1 = lin.offset[f + 1];
-      if (b0 == b1) continue;
-      const double d = lambda * clamp_diag(lin.hff[f]);
-      double rhs = lin.gf[f];
-      for (int b = b0; b < b1; ++b) rhs += lin.w[b].dot(dx.segment<6>(kS * lin.frames[b]));
-      drho[f] = -rhs / (lin.hff[f] + d);
-      predicted += -lin.gf[f] * drho[f] + d * drho[f] * drho[f];
-    }
+    // Per feature block: δρ_f, its share of the predicted decrease and the candidate's cost.
     for (int i = 0; i < n; ++i) cand_states[i] = states[i].plus(to_tangent(dx, i));
+    std::array<double, kBlocks> predicted_p{}, cost_p{};
+    for_blocks(pool_, [&](int blk) {
+      double pr = 0.0, c = 0.0;
+      for (int f = lin.block_begin[blk]; f < lin.block_begin[blk + 1]; ++f) {
+        drho[f] = 0.0;
+        const int b0 = lin.offset[f], b1 = b0 + lin.count[f];
+        if (b0 != b1) {
+          const double d = lambda * clamp_diag(lin.hff[f]);
+          double rhs = lin.gf[f];
+          for (int b = b0; b < b1; ++b) rhs += lin.w[b].dot(dx.segment<6>(kS * lin.frames[b]));
+          drho[f] = -rhs / (lin.hff[f] + d);
+          pr += -lin.gf[f] * drho[f] + d * drho[f] * drho[f];
+        }
+        c += feature_cost(cand_states, features[f], features[f].inv_depth + drho[f]);
+      }
+      predicted_p[blk] = pr, cost_p[blk] = c;
+    });
     double new_cost = 0.0;
     {
       std::vector<std::array<double, 16>> params(n);
@@ -384,9 +469,8 @@ DenseWindowSummary DenseWindowSolver::optimize(std::vector<ImuState>& states, st
         for (int st : sf.states) ptrs.push_back(params[st].data());
         new_cost += sf.factor->cost(ptrs.data(), work.data());
       }
-      for (std::size_t f = 0; f < features.size(); ++f)
-        new_cost += feature_cost(cand_states, features[f], features[f].inv_depth + drho[f]);
     }
+    for (int blk = 0; blk < kBlocks; ++blk) predicted += predicted_p[blk], new_cost += cost_p[blk];
     const double actual = cost - new_cost;
     double rho = predicted > 0.0 ? actual / predicted : (actual > 0.0 ? 1.0 : -1.0);
     if (!std::isfinite(new_cost)) rho = -std::numeric_limits<double>::infinity();

@@ -34,7 +34,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(SlidingWindowOptions options, std
       pool_(options_.num_threads),
       pixel_noise_(NoiseModel::isotropic(2, options_.pixel_sigma)),
       kernel_(std::make_shared<CauchyKernel>(options_.cauchy_delta)),
-      dense_(camera_, T_imu_cam_, options_.pixel_sigma, kernel_),
+      dense_(camera_, T_imu_cam_, options_.pixel_sigma, kernel_, &pool_),
       pending_(ImuBias{}, options_.imu_noise) {
   if (!camera_) throw std::invalid_argument("SlidingWindowEstimator: no camera model");
   if (options_.dvi.enabled && !options_.dense_solver)
@@ -257,13 +257,23 @@ FrameEstimate SlidingWindowEstimator::add_frame(const CameraFrame& frame) {
     out.visual_weight = out.visual_dropped ? 0.0 : options_.dvi.alpha_of(out.static_ratio);
   }
   const ImuState predicted = pending_.predict(keyframes_.back().state, options_.gravity);
-  // Keyframe decision: mean pixel motion of the tracks shared with the last keyframe.
+  // Keyframe decision: mean pixel motion of the tracks shared with the last keyframe; with
+  // rotation compensation, against the last keyframe's pixel rotated into this frame by the
+  // IMU-predicted rotation (b' = R_cur_kf b, VINS-Mono's compensated parallax), so that turning
+  // on the spot does not fill the window with keyframes that add no baseline.
+  const SO3 R_bc = T_imu_cam_.rotation();
+  const SO3 R_cur_kf = (predicted.R * R_bc).inverse() * (keyframes_.back().state.R * R_bc);
   double parallax = 0.0;
   int common = 0;
   for (const FeatureObservation& o : in->features) {
     const auto it = keyframes_.back().pixels.find(o.track_id);
     if (it == keyframes_.back().pixels.end()) continue;
-    parallax += (o.pixel - it->second).norm(), ++common;
+    Eigen::Vector2d from = it->second;
+    Eigen::Vector3d b;
+    Eigen::Vector2d rotated;
+    if (options_.rotation_compensated_parallax && camera_->unproject(from, &b) && camera_->project(R_cur_kf.act(b), &rotated))
+      from = rotated;
+    parallax += (o.pixel - from).norm(), ++common;
   }
   parallax = common > 0 ? parallax / common : 0.0;
   ++frames_since_keyframe_;

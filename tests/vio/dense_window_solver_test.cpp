@@ -72,7 +72,9 @@ struct Window {
       if (!f.obs.empty()) features.push_back(f);
   }
 
-  DenseWindowSolver solver() const { return DenseWindowSolver(scene.camera, scene.T_imu_cam, scene.pixel_sigma, kernel); }
+  DenseWindowSolver solver(const ThreadPool* pool = nullptr) const {
+    return DenseWindowSolver(scene.camera, scene.T_imu_cam, scene.pixel_sigma, kernel, pool);
+  }
 
   // The same problem as a factor graph: x<i>, l<f>.
   void graph(FactorGraph& G, Values& V, bool only_first, std::vector<Key>* first_features) const {
@@ -224,6 +226,39 @@ TEST(DenseWindowSolver, ObservationWeightsScaleTheCost) {
   const DenseWindowSummary r = s.optimize(w.states, w.features, w.factors, d);
   EXPECT_TRUE(std::isfinite(r.final_cost));
   EXPECT_LE(r.final_cost, r.initial_cost);
+}
+
+// The feature blocks are fixed by the features, and summed in block order: any thread count gives
+// bit-identical states, inverse depths, costs and marginal systems (EXPECT_EQ, not NEAR).
+TEST(DenseWindowSolver, ResultsAreBitIdenticalForAnyThreadCount) {
+  const Window start;
+  DenseWindowOptions d;
+  d.max_iterations = 6;
+  d.function_tolerance = 0.0;
+  Window serial = start;
+  const DenseWindowSummary r1 = serial.solver().optimize(serial.states, serial.features, serial.factors, d);
+  const DenseMarginal m1 = serial.solver().marginalize_first(serial.states, serial.features, serial.factors);
+  for (int threads : {1, 2, 3, 4}) {
+    const ThreadPool pool(threads);
+    Window w = start;
+    const DenseWindowSolver solver = w.solver(&pool);
+    const DenseWindowSummary r = solver.optimize(w.states, w.features, w.factors, d);
+    EXPECT_EQ(r.iterations, r1.iterations) << threads << " threads";
+    EXPECT_EQ(r.final_cost, r1.final_cost) << threads << " threads";
+    EXPECT_EQ(solver.cost(w.states, w.features, w.factors), serial.solver().cost(serial.states, serial.features, serial.factors));
+    for (std::size_t i = 0; i < w.states.size(); ++i) {
+      EXPECT_EQ(w.states[i].p, serial.states[i].p) << threads << " threads, state " << i;
+      EXPECT_EQ(w.states[i].v, serial.states[i].v) << threads << " threads, state " << i;
+      EXPECT_EQ(w.states[i].R.matrix(), serial.states[i].R.matrix()) << threads << " threads, state " << i;
+      EXPECT_EQ(w.states[i].ba, serial.states[i].ba) << threads << " threads, state " << i;
+    }
+    for (std::size_t k = 0; k < w.features.size(); ++k) EXPECT_EQ(w.features[k].inv_depth, serial.features[k].inv_depth);
+    const DenseMarginal m = solver.marginalize_first(w.states, w.features, w.factors);
+    EXPECT_EQ(m.kept, m1.kept);
+    EXPECT_EQ(m.H, m1.H) << threads << " threads";
+    EXPECT_EQ(m.g, m1.g) << threads << " threads";
+  }
+  EXPECT_LT(r1.final_cost, r1.initial_cost);
 }
 
 TEST(DenseWindowSolver, BadIndices) {

@@ -12,42 +12,70 @@
 namespace slamkit {
 namespace {
 
-TEST(SlidingWindowEstimator, ConvergesOnASyntheticScene) {
+struct SceneRun {
+  double rmse = 0.0, worst = 0.0, bg_error = 0.0, ba_error = 0.0, up_error = 0.0;
+  int keyframes = 0, marginalized = 0;
+  std::size_t window = 0;
+};
+
+SceneRun run_scene(bool rotation_compensated_parallax) {
   const double t0 = 0.5, t1 = 8.5;
   const testing::VioScene scene(t0, t1, 7, 400);
   SlidingWindowOptions o;
   o.gravity = scene.motion.gravity;
   o.imu_noise = scene.noise;
   o.pixel_sigma = scene.pixel_sigma;
+  o.rotation_compensated_parallax = rotation_compensated_parallax;
   SlidingWindowEstimator est(o, scene.camera, scene.T_imu_cam);
   ImuState start = scene.motion.state(t0);  // biases unknown: start at zero
   est.initialize(t0, start);
   std::size_t next_imu = 0;
-  double sum_p2 = 0.0, worst = 0.0;
-  int keyframes = 0, marginalized = 0;
+  double sum_p2 = 0.0;
+  SceneRun r;
   for (const CameraFrame& f : scene.frames) {
     while (next_imu < scene.imu.size() && scene.imu[next_imu].stamp <= f.stamp + 0.01) est.add_imu(scene.imu[next_imu++]);
     const FrameEstimate e = est.add_frame(f);
-    ASSERT_TRUE(e.state.p.allFinite());
+    EXPECT_TRUE(e.state.p.allFinite());
     const double err = (e.state.p - scene.motion.position(f.stamp)).norm();
     sum_p2 += err * err;
-    worst = std::max(worst, err);
-    keyframes += e.keyframe;
-    marginalized += e.marginalization_ms > 0.0;
+    r.worst = std::max(r.worst, err);
+    r.keyframes += e.keyframe;
+    r.marginalized += e.marginalization_ms > 0.0;
   }
-  const double rmse = std::sqrt(sum_p2 / scene.frames.size());
-  EXPECT_LT(rmse, 0.05) << "worst " << worst;
-  EXPECT_GT(marginalized, 20);
-  EXPECT_LE(est.num_keyframes(), 10u);
+  r.rmse = std::sqrt(sum_p2 / scene.frames.size());
+  r.window = est.num_keyframes();
   const ImuState& last = est.latest_keyframe_state();
-  EXPECT_LT((last.bg - scene.bias.gyro).norm(), 1e-3);
-  EXPECT_LT((last.ba - scene.bias.accel).norm(), 0.02);
+  r.bg_error = (last.bg - scene.bias.gyro).norm();
+  r.ba_error = (last.ba - scene.bias.accel).norm();
   // Roll and pitch are observable (gravity): the body's "up" agrees; yaw may drift.
   const SO3 R_true = scene.motion.rotation(scene.frames.back().stamp);
-  EXPECT_LT((last.R.inverse().act(Eigen::Vector3d::UnitZ()) - R_true.inverse().act(Eigen::Vector3d::UnitZ())).norm(), 0.02);
-  std::printf("keyframes %d, marginalized %d, position RMSE %.4f m (worst %.4f), b_g error %.2e, b_a error %.3f\n",
-              keyframes, marginalized, rmse, worst, (last.bg - scene.bias.gyro).norm(),
-              (last.ba - scene.bias.accel).norm());
+  r.up_error = (last.R.inverse().act(Eigen::Vector3d::UnitZ()) - R_true.inverse().act(Eigen::Vector3d::UnitZ())).norm();
+  std::printf("keyframes %d, marginalized %d, position RMSE %.4f m (worst %.4f), b_g error %.2e, b_a error %.3f, up error %.4f\n",
+              r.keyframes, r.marginalized, r.rmse, r.worst, r.bg_error, r.ba_error, r.up_error);
+  return r;
+}
+
+// Raw parallax: this fast-turning scene makes every frame a keyframe (the most marginalizations).
+TEST(SlidingWindowEstimator, ConvergesOnASyntheticScene) {
+  const SceneRun r = run_scene(false);
+  EXPECT_LT(r.rmse, 0.05) << "worst " << r.worst;
+  EXPECT_GT(r.marginalized, 20);
+  EXPECT_LE(r.window, 10u);
+  EXPECT_LT(r.bg_error, 1e-3);
+  EXPECT_LT(r.ba_error, 0.02);
+  EXPECT_LT(r.up_error, 0.02);
+}
+
+// The default keyframe rule (rotation-compensated parallax): a third of the keyframes, each
+// spanning ≈ 0.25 s of IMU (5 frames). Measured: RMSE 0.036 m, b_g 8e-4, b_a 0.006, up 0.022.
+TEST(SlidingWindowEstimator, ConvergesWithRotationCompensatedKeyframes) {
+  const SceneRun r = run_scene(true);
+  EXPECT_LT(r.keyframes, 60);
+  EXPECT_GT(r.marginalized, 15);
+  EXPECT_LT(r.rmse, 0.05) << "worst " << r.worst;
+  EXPECT_LT(r.bg_error, 2e-3);
+  EXPECT_LT(r.ba_error, 0.02);
+  EXPECT_LT(r.up_error, 0.04);
 }
 
 // DVI: features flagged dynamic are not used; a frame with M < θ keeps no vision (IMU only) and

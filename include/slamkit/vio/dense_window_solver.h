@@ -28,8 +28,13 @@
 //
 // A MarginalizationPrior<ImuState> has first-estimate (constant) Jacobians: its JᵀJ is formed
 // once per prior object and cached; each linearization only evaluates its residual.
-// Single-threaded and deterministic: results do not depend on any thread count. Not
-// thread-safe (the prior cache).
+// Threads (optional ThreadPool): the features are split into a fixed number of blocks (4, of
+// about equal observation count; the split depends on the features only). Linearization, the
+// Schur elimination of the inverse depths, the back-substitution and the candidate's cost run
+// per block into the block's own buffers, which are summed in block order afterwards. The
+// reduction order is the same for any thread count, so results are bit-identical to one
+// thread (tested). The state factors, the dense LLT and the marginal's 15×15 solve are serial.
+// A solver object is not thread-safe (the prior cache).
 #pragma once
 
 #include <Eigen/Core>
@@ -37,6 +42,7 @@
 #include <vector>
 
 #include "slamkit/core/factor.h"
+#include "slamkit/core/parallel.h"
 #include "slamkit/core/robust_kernel.h"
 #include "slamkit/factors/imu_state.h"
 #include "slamkit/geometry/camera_models.h"
@@ -83,9 +89,10 @@ struct DenseMarginal {
 
 class DenseWindowSolver {
  public:
-  /// Throws std::invalid_argument without a camera or with pixel_sigma ≤ 0.
+  /// Throws std::invalid_argument without a camera or with pixel_sigma ≤ 0. `pool` (may be
+  /// null: serial) runs the feature blocks; it must outlive the solver.
   DenseWindowSolver(std::shared_ptr<const CameraModel> camera, const SE3& T_imu_cam, double pixel_sigma,
-                    std::shared_ptr<const RobustKernel> kernel);
+                    std::shared_ptr<const RobustKernel> kernel, const ThreadPool* pool = nullptr);
 
   /// LM over the states and the inverse depths (updated in place). Throws std::invalid_argument
   /// if an index is out of range.
@@ -114,6 +121,7 @@ class DenseWindowSolver {
   SE3 T_imu_cam_;
   double inv_sigma_;
   std::shared_ptr<const RobustKernel> kernel_;
+  const ThreadPool* pool_;
   struct PriorCache {
     std::shared_ptr<const Factor> factor;
     Eigen::MatrixXd J, H;  // whitened Jacobian and JᵀJ, columns in internal order per variable
