@@ -111,24 +111,27 @@ void init_relaxers(py::module_& m) {
 
   m.def(
       "optimize_sgd",
-      [](PoseGraph& g, std::uint64_t seed, bool shuffle, int max_iterations, double time_budget_s, double tol,
-         int patience, const py::object& callback, bool verbose) {
+      [](PoseGraph& g, std::uint64_t seed, bool shuffle, int file_order_iterations, int max_iterations,
+         double time_budget_s, double tol, int patience, const py::object& callback, bool verbose) {
+        if (file_order_iterations < 0) throw py::value_error("optimize_sgd: file_order_iterations must be >= 0");
         SgdOptions o;
         o.stop = make_stop(max_iterations, time_budget_s, tol, patience, callback, verbose);
-        o.seed = seed, o.shuffle = shuffle;
+        o.seed = seed, o.shuffle = shuffle, o.file_order_iterations = file_order_iterations;
         return run(g, o, [](PoseGraph& x, const SgdOptions& y) { return optimize_sgd(x, y); });
       },
-      py::arg("graph"), py::arg("seed") = 1, py::arg("shuffle") = true, SLAMKIT_STOP_ARGS,
+      py::arg("graph"), py::arg("seed") = 1, py::arg("shuffle") = true,
+      py::arg("file_order_iterations") = SgdOptions{}.file_order_iterations, SLAMKIT_STOP_ARGS,
       "Olson's stochastic gradient descent on incremental poses (docs/relaxers.md), in place.");
   m.def(
       "optimize_toro",
-      [](PoseGraph& g, int max_iterations, double time_budget_s, double tol, int patience, const py::object& callback,
-         bool verbose) {
+      [](PoseGraph& g, std::uint64_t seed, bool shuffle_in_gradient_phase, int max_iterations, double time_budget_s,
+         double tol, int patience, const py::object& callback, bool verbose) {
         ToroOptions o;
         o.stop = make_stop(max_iterations, time_budget_s, tol, patience, callback, verbose);
+        o.seed = seed, o.shuffle_in_gradient_phase = shuffle_in_gradient_phase;
         return run(g, o, [](PoseGraph& x, const ToroOptions& y) { return optimize_toro(x, y); });
       },
-      py::arg("graph"), SLAMKIT_STOP_ARGS, "TORO: tree-parameterized gradient descent (2D and 3D), in place.");
+      py::arg("graph"), py::arg("seed") = 1, py::arg("shuffle_in_gradient_phase") = true, SLAMKIT_STOP_ARGS, "TORO: tree-parameterized gradient descent (2D and 3D), in place.");
   m.def(
       "optimize_relaxation",
       [](PoseGraph& g, double over_relaxation, int max_iterations, double time_budget_s, double tol, int patience,

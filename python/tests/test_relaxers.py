@@ -40,6 +40,20 @@ def test_sgd_is_deterministic_and_the_callback_can_stop_it():
     assert s.iterations == 2 and s.termination == "user callback"
 
 
+def test_order_options_reach_the_solvers():
+    # Seeds only matter once the random order starts: after the file-order iterations for SGD.
+    runs = {}
+    for seed in (1, 2):
+        g = graph()
+        sk.initialize_pose_graph(g, "odometry")
+        runs[seed] = sk.optimize_sgd(g, seed=seed, file_order_iterations=0, max_iterations=5).final_chi2
+    assert runs[1] != runs[2]
+    g = graph()
+    assert sk.optimize_toro(g, seed=3, shuffle_in_gradient_phase=False, max_iterations=5).iterations > 0
+    with pytest.raises(ValueError):
+        sk.optimize_sgd(graph(), file_order_iterations=-1)
+
+
 def test_hogman_online_and_compare_match_the_cli(tmp_path):
     g = graph()
     online = sk.hogman_online(g)
