@@ -19,6 +19,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 #include "bench_data.h"
 #include "slamkit/eval/filter_plots.h"
@@ -134,22 +135,31 @@ nlohmann::json survey_run(const std::string& algorithm, int n, const Config& c) 
           {"time_per_step_ms", {{"mean", total / steps}, {"max", max_ms}}}, {"time_per_scan_ms", scan_total / scans}};
 }
 
+// One series per label from the rows of `key` in a results file (absent file: nothing);
+// row(r) gives (label, landmarks, ms per step).
+template <class Row>
+void series_by_algorithm(const std::string& file, const char* key, std::vector<TimingSeries>* out, const Row& row) {
+  std::ifstream in(file);
+  if (!in) return;
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  std::map<std::string, TimingSeries> by_label;
+  for (const auto& r : doc[key]) {
+    const auto [label, landmarks, ms] = row(r);
+    TimingSeries& ts = by_label[label];
+    ts.label = label, ts.landmarks.push_back(landmarks), ts.ms.push_back(ms);
+  }
+  for (auto& [label, ts] : by_label) out->push_back(ts);
+}
+
 // The one plot of time per step against n: the survey series, plus (when their JSON is
 // in `dir`) the route curves of the largest generated world (SEIF's flat line) and FastSLAM's
 // prior-map scaling (fastslam_bench), and an n² reference through the EKF's first point.
 std::vector<TimingSeries> combined_series(const std::string& dir) {
   std::vector<TimingSeries> out;
-  std::ifstream survey_file(dir + "/filters_scaling_survey.json");
-  if (survey_file) {
-    std::map<std::string, TimingSeries> by_algorithm;
-    const nlohmann::json doc = nlohmann::json::parse(survey_file);
-    for (const auto& r : doc["runs"]) {
-      TimingSeries& ts = by_algorithm[r["algorithm"].get<std::string>()];
-      ts.label = r["algorithm"].get<std::string>() + ", survey";
-      ts.landmarks.push_back(r["landmarks"]), ts.ms.push_back(r["time_per_step_ms"]["mean"]);
-    }
-    for (auto& [a, ts] : by_algorithm) out.push_back(ts);
-  }
+  series_by_algorithm(dir + "/filters_scaling_survey.json", "runs", &out, [](const nlohmann::json& r) {
+    return std::make_tuple(r["algorithm"].get<std::string>() + ", survey", r["landmarks"].get<double>(),
+                           r["time_per_step_ms"]["mean"].get<double>());
+  });
   const std::vector<TimingSeries> survey = out;
   for (const TimingSeries& s : survey)
     if (s.label.rfind("ekf", 0) == 0 && !s.ms.empty()) {
@@ -172,17 +182,11 @@ std::vector<TimingSeries> combined_series(const std::string& dir) {
       out.push_back(ts);
     }
   }
-  std::ifstream fast(dir + "/fastslam_scaling.json");
-  if (fast) {
-    std::map<std::string, TimingSeries> by_algorithm;
-    const nlohmann::json doc = nlohmann::json::parse(fast);
-    for (const auto& r : doc["results"]) {
-      TimingSeries& ts = by_algorithm[r["algorithm"].get<std::string>()];
-      ts.label = r["algorithm"].get<std::string>() + " M=" + std::to_string(r["particles"].get<int>()) + ", prior map";
-      ts.landmarks.push_back(r["landmarks"]), ts.ms.push_back(r["time_per_step_ms"]);
-    }
-    for (auto& [a, ts] : by_algorithm) out.push_back(ts);
-  }
+  series_by_algorithm(dir + "/fastslam_scaling.json", "results", &out, [](const nlohmann::json& r) {
+    return std::make_tuple(r["algorithm"].get<std::string>() + " M=" + std::to_string(r["particles"].get<int>()) +
+                               ", prior map",
+                           r["landmarks"].get<double>(), r["time_per_step_ms"].get<double>());
+  });
   return out;
 }
 
