@@ -14,25 +14,17 @@
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench_data.h"
+#include "slamkit/core/string_list.h"
 #include "slamkit/eval/filter_dataset.h"
 #include "slamkit/filters/filter_factory.h"
 
 using namespace slamkit;
 
 namespace {
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
 
 nlohmann::json nullable(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -90,8 +82,8 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--particles")) particles = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--active")) active = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
-    if (!std::strcmp(argv[i], "--algorithms")) algorithms = split(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--victoria-algorithms")) victoria_algorithms = split(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--algorithms")) algorithms = split_list(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--victoria-algorithms")) victoria_algorithms = split_list(argv[i + 1]);
     if (!std::strcmp(argv[i], "--unicycle-noise") &&
         std::sscanf(argv[i + 1], "%lf,%lf,%lf,%lf", &noise.sigma_v, &noise.sigma_w, &noise.sigma_v_per_v,
                     &noise.sigma_w_per_w) != 4)

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "bench_data.h"
+#include "slamkit/core/string_list.h"
 #include "slamkit/eval/filter_consistency.h"
 #include "slamkit/eval/filter_plots.h"
 #include "slamkit/eval/plot.h"
@@ -29,9 +30,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
     else if (!std::strcmp(argv[i], "--worlds")) {
-      worlds.clear();
-      std::stringstream ss(argv[i + 1]);
-      for (std::string w; std::getline(ss, w, ',');) worlds.push_back(w);
+      worlds = split_list(argv[i + 1]);
     }
   }
   const std::map<std::string, std::vector<int>> bounds = {{"webmap", {2, 4, 6, 8}}, {"densemap", {4, 6, 10, 15}}};

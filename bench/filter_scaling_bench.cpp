@@ -18,10 +18,10 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <tuple>
 
 #include "bench_data.h"
+#include "slamkit/core/string_list.h"
 #include "slamkit/eval/filter_plots.h"
 #include "slamkit/filters/filter_factory.h"
 #include "slamkit/sim/landmark_sim.h"
@@ -210,9 +210,8 @@ int main(int argc, char** argv) {
     else if (a == "--steps") c.survey_steps = std::stoi(v);
     else if (a == "--out") out = v;
     else if (a == "--sizes" || a == "--algorithms") {
-      std::stringstream ss(v);
       if (a == "--sizes") c.sizes.clear(); else c.algorithms.clear();
-      for (std::string w; std::getline(ss, w, ',');)
+      for (const std::string& w : split_list(v))
         if (a == "--sizes") c.sizes.push_back(std::stoi(w)); else c.algorithms.push_back(w);
     } else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());

@@ -62,8 +62,8 @@ struct Timing {
 
 // One MRPT sensory frame with a bearing-range observation of `z` (MRPT needs one in every
 // frame: empty between scans), known ids in landmarkID.
-mrpt::obs::CSensoryFrame::Ptr sensory_frame(const std::vector<RangeBearing>& z, double max_range) {
-  const LandmarkSimOptions sim;
+mrpt::obs::CSensoryFrame::Ptr sensory_frame(const std::vector<RangeBearing>& z, const LandmarkSimOptions& sim,
+                                             double max_range) {
   auto sf = mrpt::obs::CSensoryFrame::Create();
   auto obs = mrpt::obs::CObservationBearingRange::Create();
   obs->sensor_std_range = float(sim.sigma_range);
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
     still.computeFromOdometry(mrpt::poses::CPose2D(0, 0, 0), motion);
     act->insert(still);
     t0 = bench::thread_cpu_ms();
-    auto survey_frame = sensory_frame(z, 1e9);
+    auto survey_frame = sensory_frame(z, sim, 1e9);
     mrpt_ekf.processActionObservation(act, survey_frame);
     survey_ms_mrpt = bench::thread_cpu_ms() - t0;
     std::printf("survey: %zu observations, slamkit %d landmarks in %.0f ms, MRPT %zu in %.0f ms\n", z.size(), map_sk,
@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
     mrpt::obs::CActionRobotMovement2D move;
     move.computeFromOdometry(mrpt::poses::CPose2D(d.x(), d.y(), d.z()), motion);
     act->insert(move);
-    auto sf = sensory_frame(s.observations, sim.max_range);
+    auto sf = sensory_frame(s.observations, sim, sim.max_range);
     const int map_mrpt = int(mrpt_ekf.getNumberOfLandmarksInTheMap());
     t0 = bench::thread_cpu_ms();
     mrpt_ekf.processActionObservation(act, sf);

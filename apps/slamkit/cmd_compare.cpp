@@ -7,10 +7,10 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "cli_util.h"
 #include "commands.h"
+#include "slamkit/core/string_list.h"
 #include "slamkit/eval/plot.h"
 #include "slamkit/factors/backend_comparison.h"
 
@@ -22,14 +22,6 @@ struct CompareArgs {
   double time_budget = 10.0;
   int max_iterations = 1000, threads = 1;
 };
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
 
 nlohmann::json to_json(const Comparison& c) {
   nlohmann::json j;
@@ -103,7 +95,7 @@ void run(const CompareArgs& a) {
   ro.format = parse_pose_graph_format(a.format);
   PoseGraph g = load_pose_graph(a.input, ro, nullptr);
   ComparisonOptions o;
-  o.solvers = split(a.solvers);
+  o.solvers = split_list(a.solvers);
   o.init = a.init;
   o.time_budget_s = a.time_budget;
   o.max_iterations = a.max_iterations;

@@ -6,6 +6,7 @@
 
 #include "slamkit/core/error.h"
 #include "slamkit/eval/plot.h"
+#include "report_html.h"
 
 namespace slamkit {
 
@@ -35,13 +36,7 @@ std::vector<double> series(const json& j, const char* key, const std::string& so
   }
   return v;
 }
-std::string fmt(double v, int decimals) {
-  if (!std::isfinite(v)) return "–";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-std::string esc(const std::string& s) { return xml_escape(s); }
+std::string fmt(double v, int decimals) { return report_html::fixed(v, decimals); }
 }  // namespace
 
 FilterRunData filter_run_from_json(const json& j, const std::string& source) {
@@ -80,9 +75,9 @@ std::string filter_report_section(const std::vector<FilterRunData>& runs) {
   std::string h = "<section id=\"filters\">\n<h2>Landmark-SLAM filters</h2>\n";
   h += "<p class=\"meta\">Pose RMSE over all runs and steps; ANEES = mean over time of the pose NEES averaged "
        "over the runs (3 dof), with its two-sided 95% χ² bounds; in bounds = share of steps whose ANEES lies inside.</p>\n";
-  h += "<table class=\"runs\">\n<tr><th class=\"text\">run</th><th class=\"text\">world</th><th class=\"text\">"
-       "association</th><th>runs</th><th>landmarks</th><th>RMSE pos. [m]</th><th>RMSE head. [deg]</th><th>ANEES</th>"
-       "<th>bounds</th><th>in bounds</th><th>ANIS</th><th>map NEES</th><th>ms/step mean</th><th>ms/step max</th></tr>\n";
+  h += report_html::table_head({{"run", true}, {"world", true}, {"association", true}, {"runs"}, {"landmarks"},
+                                {"RMSE pos. [m]"}, {"RMSE head. [deg]"}, {"ANEES"}, {"bounds"}, {"in bounds"},
+                                {"ANIS"}, {"map NEES"}, {"ms/step mean"}, {"ms/step max"}});
   std::map<std::string, double> best;  // per world: lowest RMSE
   for (const auto& r : runs) {
     auto it = best.find(r.world);
@@ -92,14 +87,17 @@ std::string filter_report_section(const std::vector<FilterRunData>& runs) {
     const auto& r = runs[k];
     const bool is_best = runs.size() > 1 && r.rmse_position == best[r.world];
     const bool consistent = r.anees >= r.anees_lo && r.anees <= r.anees_hi;
-    h += "<tr><td class=\"text\"><span class=\"swatch\" style=\"background:" + palette(k).hex() + "\"></span>" +
-         esc(r.label) + "</td><td class=\"text\">" + esc(r.world) + "</td><td class=\"text\">" + esc(r.association) +
-         "</td><td>" + std::to_string(r.runs) + "</td><td>" + std::to_string(r.landmarks) + "</td><td" +
-         (is_best ? " class=\"best\"" : "") + ">" + fmt(r.rmse_position, 3) + "</td><td>" + fmt(r.rmse_heading, 3) +
-         "</td><td" + (consistent ? " class=\"best\"" : "") + ">" + fmt(r.anees, 2) + "</td><td>[" +
-         fmt(r.anees_lo, 3) + ", " + fmt(r.anees_hi, 3) + "]</td><td>" + fmt(100 * r.fraction_in_bounds, 1) +
-         "%</td><td>" + (r.anis ? fmt(*r.anis, 2) : "–") + "</td><td>" + (r.map_nees ? fmt(*r.map_nees, 2) : "–") +
-         "</td><td>" + fmt(r.time_mean_ms, 4) + "</td><td>" + fmt(r.time_max_ms, 3) + "</td></tr>\n";
+    using report_html::number_cell;
+    using report_html::text_cell;
+    h += report_html::run_row(
+        k, r.label,
+        {text_cell(r.world), text_cell(r.association), number_cell(std::to_string(r.runs)),
+         number_cell(std::to_string(r.landmarks)), number_cell(fmt(r.rmse_position, 3), is_best),
+         number_cell(fmt(r.rmse_heading, 3)), number_cell(fmt(r.anees, 2), consistent),
+         number_cell("[" + fmt(r.anees_lo, 3) + ", " + fmt(r.anees_hi, 3) + "]"),
+         number_cell(fmt(100 * r.fraction_in_bounds, 1) + "%"), number_cell(r.anis ? fmt(*r.anis, 2) : "–"),
+         number_cell(r.map_nees ? fmt(*r.map_nees, 2) : "–"), number_cell(fmt(r.time_mean_ms, 4)),
+         number_cell(fmt(r.time_max_ms, 3))});
   }
   h += "</table>\n";
   std::map<std::string, std::vector<std::size_t>> by_world;

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "slamkit/core/error.h"
-#include "slamkit/eval/plot.h"
+#include "report_html.h"
 
 namespace slamkit {
 
@@ -63,17 +63,19 @@ std::string frontend_report_section(const std::vector<FrontendRunData>& runs) {
        "M = static / classified features of a frame; precision and recall of \"dynamic\" against the rendered "
        "pixel labels where the run has them; time of tracking + classification per frame, image time "
        "(rendering or reading) apart.</p>\n";
-  h += "<table class=\"runs\">\n<tr><th class=\"text\">run</th><th class=\"text\">input</th><th>frames</th>"
-       "<th>M mean</th><th>M min</th><th>dynamic share [%]</th><th>precision</th><th>recall</th>"
-       "<th>frames &lt; 8 matches</th><th>front end [ms/frame]</th><th>images [ms/frame]</th></tr>\n";
+  h += report_html::table_head({{"run", true}, {"input", true}, {"frames"}, {"M mean"}, {"M min"},
+                                {"dynamic share [%]"}, {"precision"}, {"recall"}, {"frames &lt; 8 matches"},
+                                {"front end [ms/frame]"}, {"images [ms/frame]"}});
+  using report_html::number_cell;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const FrontendRunData& r = runs[k];
-    h += "<tr><td class=\"text\"><span class=\"swatch\" style=\"background:" + palette(k).hex() + "\"></span>" +
-         xml_escape(r.label) + "</td><td class=\"text\">" + xml_escape(r.input) + "</td><td>" +
-         std::to_string(r.frames) + "</td><td>" + fmt(r.static_ratio_mean, 3) + "</td><td>" + fmt(r.static_ratio_min, 3) +
-         "</td><td>" + fmt(r.share_dynamic, 1, 100.0) + "</td><td>" + fmt(r.precision, 3) + "</td><td>" +
-         fmt(r.recall, 3) + "</td><td>" + (r.too_few_matches ? std::to_string(*r.too_few_matches) : "–") + "</td><td>" +
-         fmt(r.time_ms, 1) + "</td><td>" + fmt(r.image_ms, 1) + "</td></tr>\n";
+    h += report_html::run_row(
+        k, r.label,
+        {report_html::text_cell(r.input), number_cell(std::to_string(r.frames)), number_cell(fmt(r.static_ratio_mean, 3)),
+         number_cell(fmt(r.static_ratio_min, 3)), number_cell(fmt(r.share_dynamic, 1, 100.0)),
+         number_cell(fmt(r.precision, 3)), number_cell(fmt(r.recall, 3)),
+         number_cell(r.too_few_matches ? std::to_string(*r.too_few_matches) : "–"), number_cell(fmt(r.time_ms, 1)),
+         number_cell(fmt(r.image_ms, 1))});
   }
   h += "</table>\n</section>\n";
   return h;

@@ -13,6 +13,7 @@
 #include "slamkit/eval/simulate_report.h"
 #include "slamkit/eval/plot.h"
 #include "slamkit/eval/run_json.h"
+#include "report_html.h"
 
 namespace slamkit {
 
@@ -49,12 +50,9 @@ code { font-size: 12px; }
 
 std::string esc(const std::string& s) { return xml_escape(s); }
 
-std::string fixed(double v, int decimals = 4) {
-  if (!std::isfinite(v)) return "–";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string fixed(double v, int decimals = 4) { return report_html::fixed(v, decimals); }
+using report_html::number_cell;
+using report_html::text_cell;
 
 std::string general(double v) {
   if (!std::isfinite(v)) return "–";
@@ -64,10 +62,6 @@ std::string general(double v) {
 }
 
 std::string figure(const SvgWriter& svg) { return "<figure>" + svg.str() + "</figure>\n"; }
-
-std::string swatch(std::size_t k) {
-  return "<span class=\"swatch\" style=\"background:" + palette(k).hex() + "\"></span>";
-}
 
 // ---- optimizer documents ---------------------------------------------------------------
 
@@ -89,20 +83,20 @@ std::string eval_table(const std::vector<EvalRunData>& runs) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& r : runs) best = std::min(best, r.stats.rmse);
   const std::string unit = runs.front().unit.empty() ? "" : " [" + runs.front().unit + "]";
-  std::string h = "<table class=\"runs\">\n<tr><th class=\"text\">run</th><th class=\"text\">reference</th>"
-                  "<th class=\"text\">alignment</th><th>scale</th><th>pairs</th><th>rmse" + unit +
-                  "</th><th>mean</th><th>median</th><th>std</th><th>min</th><th>max</th>"
-                  "<th>trans. rmse [m]</th><th>rot. rmse [deg]</th></tr>\n";
+  std::string h = report_html::table_head({{"run", true}, {"reference", true}, {"alignment", true}, {"scale"},
+                                          {"pairs"}, {"rmse" + unit}, {"mean"}, {"median"}, {"std"}, {"min"},
+                                          {"max"}, {"trans. rmse [m]"}, {"rot. rmse [deg]"}});
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const EvalRunData& r = runs[k];
     const bool is_best = runs.size() > 1 && r.stats.rmse == best;
-    h += "<tr><td class=\"text\">" + swatch(k) + esc(r.label) + "</td><td class=\"text\">" + esc(r.reference) +
-         "</td><td class=\"text\">" + esc(r.align) + "</td><td>" + general(r.scale) + "</td><td>" +
-         std::to_string(r.stats.count) + "</td><td" + (is_best ? " class=\"best\"" : "") + ">" + fixed(r.stats.rmse) +
-         "</td><td>" + fixed(r.stats.mean) + "</td><td>" + fixed(r.stats.median) + "</td><td>" + fixed(r.stats.std) +
-         "</td><td>" + fixed(r.stats.min) + "</td><td>" + fixed(r.stats.max) + "</td><td>" +
-         (r.translation ? fixed(r.translation->rmse) : "–") + "</td><td>" +
-         (r.rotation ? fixed(r.rotation->rmse) : "–") + "</td></tr>\n";
+    h += report_html::run_row(
+        k, r.label,
+        {text_cell(r.reference), text_cell(r.align), number_cell(general(r.scale)),
+         number_cell(std::to_string(r.stats.count)), number_cell(fixed(r.stats.rmse), is_best),
+         number_cell(fixed(r.stats.mean)), number_cell(fixed(r.stats.median)), number_cell(fixed(r.stats.std)),
+         number_cell(fixed(r.stats.min)), number_cell(fixed(r.stats.max)),
+         number_cell(r.translation ? fixed(r.translation->rmse) : "–"),
+         number_cell(r.rotation ? fixed(r.rotation->rmse) : "–")});
   }
   return h + "</table>\n";
 }
@@ -151,18 +145,17 @@ std::string optimize_section(const std::vector<OptimizeRunData>& runs) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& r : runs)
     if (r.final_chi2) best = std::min(best, *r.final_chi2);
-  h += "<table class=\"runs\">\n<tr><th class=\"text\">run</th><th class=\"text\">solver</th><th class=\"text\">init</th>"
-       "<th>iterations</th><th>initial χ²</th><th>final χ²</th><th>time [s]</th><th class=\"text\">termination</th></tr>\n";
+  h += report_html::table_head({{"run", true}, {"solver", true}, {"init", true}, {"iterations"}, {"initial χ²"},
+                                {"final χ²"}, {"time [s]"}, {"termination", true}});
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const OptimizeRunData& r = runs[k];
     const bool is_best = runs.size() > 1 && r.final_chi2 && *r.final_chi2 == best;
-    h += "<tr><td class=\"text\">" + swatch(k) + esc(r.label) + "</td><td class=\"text\">" + esc(r.solver) +
-         "</td><td class=\"text\">" + esc(r.init) + "</td><td>" +
-         (r.iterations ? std::to_string(*r.iterations) : "–") + "</td><td>" +
-         (r.initial_chi2 ? general(*r.initial_chi2) : "–") + "</td><td" + (is_best ? " class=\"best\"" : "") + ">" +
-         (r.final_chi2 ? general(*r.final_chi2) : "–") + "</td><td>" +
-         (r.time_total_s ? fixed(*r.time_total_s, 3) : "–") + "</td><td class=\"text\">" + esc(r.termination) +
-         "</td></tr>\n";
+    h += report_html::run_row(
+        k, r.label,
+        {text_cell(r.solver), text_cell(r.init), number_cell(r.iterations ? std::to_string(*r.iterations) : "–"),
+         number_cell(r.initial_chi2 ? general(*r.initial_chi2) : "–"),
+         number_cell(r.final_chi2 ? general(*r.final_chi2) : "–", is_best),
+         number_cell(r.time_total_s ? fixed(*r.time_total_s, 3) : "–"), text_cell(r.termination)});
   }
   h += "</table>\n";
   Plot by_iter("Cost per iteration", "iteration", "cost (log scale)");

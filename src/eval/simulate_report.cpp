@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "slamkit/core/error.h"
-#include "slamkit/eval/plot.h"
+#include "report_html.h"
 
 namespace slamkit {
 
@@ -70,21 +70,23 @@ std::string simulate_report_section(const std::vector<SimulateRunData>& runs) {
   h += "<p class=\"meta\">The scenes the runs above were measured on: the real path each B-spline was fitted to "
        "(and how closely), the camera, the features per frame, and how much of what the camera saw was moving "
        "(M = static / all features of a frame).</p>\n";
-  h += "<table class=\"runs\">\n<tr><th class=\"text\">run</th><th class=\"text\">path</th><th>seed</th>"
-       "<th class=\"text\">dynamic</th><th class=\"text\">camera</th><th>duration [s]</th><th>frames</th>"
-       "<th>features/frame mean</th><th>min</th><th>dynamic share</th><th>M mean</th><th>M min</th>"
-       "<th>landmarks static / moving (groups)</th><th>fit RMSE [mm]</th><th>fit RMSE [deg]</th></tr>\n";
+  h += report_html::table_head({{"run", true}, {"path", true}, {"seed"}, {"dynamic", true}, {"camera", true},
+                                {"duration [s]"}, {"frames"}, {"features/frame mean"}, {"min"}, {"dynamic share"},
+                                {"M mean"}, {"M min"}, {"landmarks static / moving (groups)"}, {"fit RMSE [mm]"},
+                                {"fit RMSE [deg]"}});
+  using report_html::number_cell;
+  using report_html::text_cell;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const auto& r = runs[k];
-    h += "<tr><td class=\"text\"><span class=\"swatch\" style=\"background:" + palette(k).hex() + "\"></span>" +
-         xml_escape(r.label) + "</td><td class=\"text\">" + xml_escape(r.source) + "</td><td>" +
-         std::to_string(r.seed) + "</td><td class=\"text\">" + xml_escape(r.dynamic) + "</td><td class=\"text\">" +
-         xml_escape(r.camera_model) + "</td><td>" + fmt(r.duration_s, 1) + "</td><td>" + std::to_string(r.frames) +
-         "</td><td>" + fmt(r.features_mean, 1) + "</td><td>" + fmt(r.features_min, 0) + "</td><td>" +
-         fmt(r.dynamic_share, 3) + "</td><td>" + fmt(r.static_ratio_mean, 3) + "</td><td>" +
-         fmt(r.static_ratio_min, 3) + "</td><td>" + std::to_string(r.static_landmarks) + " / " +
-         std::to_string(r.dynamic_landmarks) + " (" + std::to_string(r.groups) + ")</td><td>" +
-         fmt(1e3 * r.fit_position_rmse_m, 2) + "</td><td>" + fmt(r.fit_rotation_rmse_deg, 3) + "</td></tr>\n";
+    h += report_html::run_row(
+        k, r.label,
+        {text_cell(r.source), number_cell(std::to_string(r.seed)), text_cell(r.dynamic), text_cell(r.camera_model),
+         number_cell(fmt(r.duration_s, 1)), number_cell(std::to_string(r.frames)), number_cell(fmt(r.features_mean, 1)),
+         number_cell(fmt(r.features_min, 0)), number_cell(fmt(r.dynamic_share, 3)),
+         number_cell(fmt(r.static_ratio_mean, 3)), number_cell(fmt(r.static_ratio_min, 3)),
+         number_cell(std::to_string(r.static_landmarks) + " / " + std::to_string(r.dynamic_landmarks) + " (" +
+                     std::to_string(r.groups) + ")"),
+         number_cell(fmt(1e3 * r.fit_position_rmse_m, 2)), number_cell(fmt(r.fit_rotation_rmse_deg, 3))});
   }
   return h + "</table>\n</section>\n";
 }
