@@ -2,6 +2,7 @@
 #include "vio_images.h"
 
 #include <cstdio>
+#include <string>
 
 #include "cli_util.h"
 #include "slamkit/io/visual_inertial_sequence_io.h"
@@ -12,6 +13,11 @@ namespace slamkit::cli {
 VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log) {
   if (!is_visual_inertial_sequence_name(o.sim))
     throw InputError(o.sim, 0, "sim", "--images needs a named sequence (room1..room4, euroc:...): the renderer rebuilds its scene");
+  const ImageFrontendOptions& fo = o.vio.frontend;
+  if (fo.consistency_hits > fo.consistency_checks)
+    throw InputError("--consistency-hits", 0, "consistency_hits",
+                     std::to_string(fo.consistency_hits) + " hits of " + std::to_string(fo.consistency_checks) +
+                         " checks: must be at most --consistency-checks");
   VisualInertialSimOptions opt;
   opt.seed = o.seed;
   opt.dynamic = parse_dynamic_level(o.dynamic);
