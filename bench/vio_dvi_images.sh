@@ -7,6 +7,9 @@
 # precision / recall of "dynamic"; M; frames without vision; times, with the load average) in
 # $OUT.json (default bench/results/vio_dvi_images.json) and a table in $OUT.md.
 # Usage: bench/vio_dvi_images.sh [BUILD_DIR] [SEEDS] [DURATION_S] ["room1 room2 ..."] ["VIO OPTIONS"]
+# WORK=DIR keeps the per-run JSON there (two instances on disjoint sequences may share it);
+# IMAGES=DIR keeps the rendered folders there and reuses them; FIRST_SEED=N starts at seed N
+# (with WORK, a later call can add seeds); SUMMARY_ONLY=1 only summarizes the runs already in WORK (SEEDS is then the number of seeds expected).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=${1:-$here/../build}
@@ -16,15 +19,15 @@ seqs=${4:-room1 room2 room3 room4}
 vio_args=${5:-}
 out=${OUT:-$here/results/vio_dvi_images}
 slamkit=$build/bin/slamkit
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-for seq in $seqs; do
+if [ -n "${WORK:-}" ]; then work=$WORK; mkdir -p "$work"; else work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi
+[ "${SUMMARY_ONLY:-0}" = 1 ] && seqs_run="" || seqs_run=$seqs
+for seq in $seqs_run; do
   for level in low high; do
-    for seed in $(seq 1 "$seeds"); do
+    for seed in $(seq "${FIRST_SEED:-1}" "$seeds"); do
       name=${seq//:/_}_${level}_$seed
-      img=$work/$name.images
+      img=${IMAGES:-$work}/$name.images
       load=$(cut -d' ' -f1 /proc/loadavg)
-      "$slamkit" simulate --vi "$seq" --seed "$seed" --dynamic "$level" --duration "$duration" --images "$img" \
+      [ -n "${IMAGES:-}" ] && [ -f "$img/mav0/cam0/data.csv" ] || "$slamkit" simulate --vi "$seq" --seed "$seed" --dynamic "$level" --duration "$duration" --images "$img" \
         --json "$work/$name.simulate.json" >/dev/null 2>&1
       for mode in off on; do
         # shellcheck disable=SC2086
@@ -35,7 +38,7 @@ for seq in $seqs; do
           "$work/$name.$mode.json" "$load"
         grep -E "^(front end|ATE)" "$work/$name.$mode.log" | sed "s/^/$name dvi $mode: /"
       done
-      rm -rf "$img"
+      [ -n "${IMAGES:-}" ] || rm -rf "$img"
     done
   done
 done
@@ -45,8 +48,8 @@ work, out, seeds, duration, seqs, vio_args = sys.argv[1], sys.argv[2], int(sys.a
 def stats(v): return {"median": st.median(v), "mean": st.mean(v), "min": min(v), "max": max(v)} if v else None
 summary = {"kind": "vio_dvi_images", "sequences": seqs, "seeds": seeds, "duration_s": duration, "vio_args": vio_args,
            "classifier": "front end on rendered images (KLT + long-baseline epipolar test)", "results": {}}
-md = ["| sequence | dynamic | seeds | baseline ATE median / mean / min / max [m] | DVI ATE median / mean / min / max [m] | DVI vs baseline (mean) | precision | recall | M mean / min | frames without vision (DVI) | load |",
-      "|---|---|---|---|---|---|---|---|---|---|---|"]
+md = ["| sequence | dynamic | seeds | baseline ATE median / mean / min / max [m] | DVI ATE median / mean / min / max [m] | DVI vs baseline (mean) | precision / recall (patch) | precision / recall (centre pixel) | mixed (flagged) | M mean / min | frames without vision (DVI) | DVI CPU ms / 50 ms frame | load |",
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 for seq in seqs:
     for level in ("low", "high"):
         key = f"{seq}_{level}"
@@ -61,6 +64,12 @@ for seq in seqs:
                        "realtime_factor_cpu": st.mean(x["realtime_factor_cpu"] for x in rs),
                        "runs": [{"seed": x["vio"]["seed"], "ate_rmse": x["ate_rmse"], "visual_frames_dropped": x["visual_frames_dropped"],
                                  "dynamic_precision": x["dynamic_precision"], "dynamic_recall": x["dynamic_recall"],
+                                 "dynamic_precision_centre": x["frontend"]["dynamic_precision_centre"],
+                                 "dynamic_recall_centre": x["frontend"]["dynamic_recall_centre"],
+                                 "frontend_cpu_ms_per_frame": x["frontend"]["frontend_cpu_ms_per_frame"],
+                                 "window_cpu_ms_per_frame": 1e3 * x["cpu_time_s"] / x["frontend"]["frames"],
+                                 "dvi_pipeline_cpu_ms_per_frame": x["dvi_pipeline_cpu_ms_per_frame"],
+                                 "dvi_pipeline_realtime_factor_cpu": x["dvi_pipeline_realtime_factor_cpu"],
                                  "static_ratio": x["frontend"]["static_ratio"], "load_average": x.get("load_average"),
                                  "image_ms_per_frame": x["frontend"]["image_ms_per_frame"],
                                  "tracking_ms_per_frame": x["frontend"]["tracking_ms_per_frame"],
@@ -70,21 +79,51 @@ for seq in seqs:
         fe = [x["frontend"] for x in runs["on"]]
         tp = sum(f["score"]["true_positive"] for f in fe); fp = sum(f["score"]["false_positive"] for f in fe)
         fn = sum(f["score"]["false_negative"] for f in fe)
-        r["classifier"] = {"precision": tp / (tp + fp) if tp + fp else 1.0, "recall": tp / (tp + fn) if tp + fn else 1.0,
+        mixed = sum(f["score"]["mixed"] for f in fe); mixed_flagged = sum(f["score"]["mixed_flagged"] for f in fe)
+        ctp = sum(f["score_centre"]["true_positive"] for f in fe); cfp = sum(f["score_centre"]["false_positive"] for f in fe)
+        cfn = sum(f["score_centre"]["false_negative"] for f in fe)
+        r["classifier"] = {"rule": "patch (labels under the KLT window; mixed patches counted, not scored)",
+                           "precision": tp / (tp + fp) if tp + fp else 1.0, "recall": tp / (tp + fn) if tp + fn else 1.0,
                            "true_positive": tp, "false_positive": fp, "false_negative": fn,
+                           "mixed": mixed, "mixed_flagged": mixed_flagged,
+                           "centre_pixel": {"precision": ctp / (ctp + cfp) if ctp + cfp else 1.0,
+                                            "recall": ctp / (ctp + cfn) if ctp + cfn else 1.0,
+                                            "true_positive": ctp, "false_positive": cfp, "false_negative": cfn},
                            "static_ratio_mean": st.mean(f["static_ratio"]["mean"] for f in fe),
                            "static_ratio_min": min(f["static_ratio"]["min"] for f in fe)}
         b, d = r["baseline"]["ate_rmse_m"]["mean"], r["dvi"]["ate_rmse_m"]["mean"]
         r["dvi_vs_baseline_mean_ate_change"] = (d - b) / b
         loads = [x.get("load_average") for x in runs["on"] if x.get("load_average") is not None]
         r["load_average"] = stats(loads)
+        pipe = [x["dvi_pipeline_cpu_ms_per_frame"] for x in runs["on"]]
+        r["dvi_pipeline_cpu_ms_per_frame"] = stats(pipe)
+        r["frame_period_ms"] = 50.0
         summary["results"][key] = r
         f4 = lambda s: " / ".join(f"{s[k]:.4f}" for k in ("median", "mean", "min", "max"))
         c = r["classifier"]
         md.append(f"| {seq} | {level} | {len(runs['on'])} | {f4(r['baseline']['ate_rmse_m'])} | {f4(r['dvi']['ate_rmse_m'])} | "
-                  f"{100 * r['dvi_vs_baseline_mean_ate_change']:+.1f} % | {c['precision']:.3f} | {c['recall']:.3f} | "
+                  f"{100 * r['dvi_vs_baseline_mean_ate_change']:+.1f} % | {c['precision']:.3f} / {c['recall']:.3f} | "
+                  f"{c['centre_pixel']['precision']:.3f} / {c['centre_pixel']['recall']:.3f} | {c['mixed']} ({c['mixed_flagged']}) | "
                   f"{c['static_ratio_mean']:.3f} / {c['static_ratio_min']:.3f} | {r['dvi']['visual_frames_dropped']:.1f} | "
+                  f"{r['dvi_pipeline_cpu_ms_per_frame']['mean']:.1f} | "
                   f"{r['load_average']['mean'] if loads else float('nan'):.1f} |")
+# Pooled over the sequences, per level: classifier counts and the mean of the per-sequence ATE changes.
+for level in ("low", "high"):
+    rs = [v for k, v in summary["results"].items() if k.endswith("_" + level)]
+    if not rs: continue
+    tp = sum(v["classifier"]["true_positive"] for v in rs); fp = sum(v["classifier"]["false_positive"] for v in rs)
+    fn = sum(v["classifier"]["false_negative"] for v in rs)
+    ctp = sum(v["classifier"]["centre_pixel"]["true_positive"] for v in rs); cfp = sum(v["classifier"]["centre_pixel"]["false_positive"] for v in rs)
+    cfn = sum(v["classifier"]["centre_pixel"]["false_negative"] for v in rs)
+    changes = [v["dvi_vs_baseline_mean_ate_change"] for v in rs]
+    summary.setdefault("pooled", {})[level] = {
+        "precision": tp / (tp + fp) if tp + fp else 1.0, "recall": tp / (tp + fn) if tp + fn else 1.0,
+        "precision_centre": ctp / (ctp + cfp) if ctp + cfp else 1.0, "recall_centre": ctp / (ctp + cfn) if ctp + cfn else 1.0,
+        "dvi_vs_baseline_change": stats(changes)}
+    p = summary["pooled"][level]
+    md.append(f"| all | {level} | | | | mean {100 * p['dvi_vs_baseline_change']['mean']:+.1f} % (min {100 * p['dvi_vs_baseline_change']['min']:+.1f}, "
+              f"max {100 * p['dvi_vs_baseline_change']['max']:+.1f}) | {p['precision']:.3f} / {p['recall']:.3f} | "
+              f"{p['precision_centre']:.3f} / {p['recall_centre']:.3f} | | | | | |")
 json.dump(summary, open(out + ".json", "w"), indent=1)
 open(out + ".md", "w").write("\n".join(md) + "\n")
 print("\n".join(md))

@@ -142,6 +142,10 @@ void run_vio(const VioCliOptions& o) {
     j["frontend"] = frontend;
     j["dynamic_precision"] = frontend["dynamic_precision"];
     j["dynamic_recall"] = frontend["dynamic_recall"];
+    // Tracking + classification + window, process CPU time (rendering or PNG reading apart).
+    const double cpu = frontend["frontend_cpu_ms_per_frame"].get<double>() * 1e-3 * nf + r.cpu_time_s;
+    j["dvi_pipeline_cpu_ms_per_frame"] = 1e3 * cpu / nf;
+    j["dvi_pipeline_realtime_factor_cpu"] = r.sequence_duration_s / std::max(1e-9, cpu);
   }
   const VioStartupReport& su = r.startup;
   j["initialization"] = {{"method", su.method}, {"message", su.message}, {"attempts", su.attempts},
@@ -208,6 +212,12 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::Range(1, 50))->capture_default_str();
   sub->add_option("--sticky", o->image.vio.frontend.sticky_dynamic, "with --images: a track flagged dynamic stays so")
       ->capture_default_str();
+  sub->add_option("--baseline-threshold-exponent", o->image.vio.frontend.baseline_threshold_exponent,
+                  "with --images: threshold on the k-frame baseline = threshold * k^e")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  sub->add_option("--consistency-checks", o->image.vio.frontend.consistency_checks,
+                  "with --images: a track keeps its last N epipolar tests")->check(CLI::Range(1, 16))->capture_default_str();
+  sub->add_option("--consistency-hits", o->image.vio.frontend.consistency_hits,
+                  "with --images: dynamic iff at least H of them exceed the threshold")->check(CLI::Range(1, 16))->capture_default_str();
   sub->add_option("--epipolar-threshold", o->image.vio.frontend.filter.threshold_px, "with --images: dynamic above (px)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--pixel-sigma", o->image.vio.pixel_sigma, "with --images: sigma of the tracks in the window (px)")

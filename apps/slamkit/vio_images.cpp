@@ -2,6 +2,7 @@
 #include "vio_images.h"
 
 #include <cstdio>
+#include <string>
 
 #include "cli_util.h"
 #include "slamkit/io/visual_inertial_sequence_io.h"
@@ -12,6 +13,11 @@ namespace slamkit::cli {
 VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log) {
   if (!is_visual_inertial_sequence_name(o.sim))
     throw InputError(o.sim, 0, "sim", "--images needs a named sequence (room1..room4, euroc:...): the renderer rebuilds its scene");
+  const ImageFrontendOptions& fo = o.vio.frontend;
+  if (fo.consistency_hits > fo.consistency_checks)
+    throw InputError("--consistency-hits", 0, "consistency_hits",
+                     std::to_string(fo.consistency_hits) + " hits of " + std::to_string(fo.consistency_checks) +
+                         " checks: must be at most --consistency-checks");
   VisualInertialSimOptions opt;
   opt.seed = o.seed;
   opt.dynamic = parse_dynamic_level(o.dynamic);
@@ -38,6 +44,8 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
     log << line << std::flush;
   });
   const DetectionScore& s = report.score;
+  const DetectionScore& c = report.score_centre;
+  const double cpu_frontend_s = report.frontend_cpu_s;
   const double duration = sim.frames.back().t - sim.frames.front().t;
   *frontend = {{"kind", "frontend"},
                {"image_source", report.image_source},
@@ -47,11 +55,22 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"sticky_dynamic", o.vio.frontend.sticky_dynamic},
                {"threshold_px", o.vio.frontend.filter.threshold_px},
                {"pixel_sigma", o.vio.pixel_sigma},
+               {"baseline_threshold_exponent", o.vio.frontend.baseline_threshold_exponent},
+               {"consistency_checks", o.vio.frontend.consistency_checks},
+               {"consistency_hits", o.vio.frontend.consistency_hits},
                {"dynamic_precision", s.precision()},
                {"dynamic_recall", s.recall()},
+               {"dynamic_precision_centre", c.precision()},
+               {"dynamic_recall_centre", c.recall()},
+               {"score_rule", "patch: labels under the KLT window, mixed patches counted apart (docs/frontend.md)"},
                {"score", {{"true_positive", s.true_positive}, {"false_positive", s.false_positive},
                           {"false_negative", s.false_negative}, {"true_negative", s.true_negative},
+                          {"mixed", s.mixed}, {"mixed_flagged", s.mixed_flagged},
+                          {"patch_half_size_px", report.score_patch_half_size_px},
                           {"excluded_slow", s.excluded}, {"min_speed_mps", o.vio.min_speed_mps}}},
+               {"score_centre", {{"true_positive", c.true_positive}, {"false_positive", c.false_positive},
+                                 {"false_negative", c.false_negative}, {"true_negative", c.true_negative},
+                                 {"excluded_slow", c.excluded}}},
                {"static_ratio", {{"mean", report.static_ratio_mean}, {"min", report.static_ratio_min}}},
                {"frames_too_few_matches", report.frames_too_few_matches},
                {"frames_no_fundamental", report.frames_no_fundamental},
@@ -61,12 +80,15 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"classification_ms_per_frame", report.classification_ms_per_frame},
                {"image_time_s", report.image_s},
                {"frontend_time_s", report.frontend_s},
-               {"frontend_realtime_factor", duration / std::max(1e-9, report.frontend_s)}};
-  char line[240];
+               {"frontend_realtime_factor", duration / std::max(1e-9, report.frontend_s)},
+               {"frontend_cpu_ms_per_frame", 1e3 * cpu_frontend_s / std::max<std::size_t>(1, report.frames)},
+               {"frontend_realtime_factor_cpu", duration / std::max(1e-9, cpu_frontend_s)}};
+  char line[320];
   std::snprintf(line, sizeof line,
-                "front end: dynamic precision %.3f recall %.3f (tp %ld fp %ld fn %ld), M mean %.3f min %.3f, images %.1f ms/frame,"
-                " tracking %.1f + classification %.1f ms/frame\n",
-                s.precision(), s.recall(), s.true_positive, s.false_positive, s.false_negative, report.static_ratio_mean,
+                "front end: dynamic precision %.3f recall %.3f (tp %ld fp %ld fn %ld mixed %ld; centre pixel: %.3f / %.3f),"
+                " M mean %.3f min %.3f, images %.1f ms/frame, tracking %.1f + classification %.1f ms/frame\n",
+                s.precision(), s.recall(), s.true_positive, s.false_positive, s.false_negative, s.mixed, c.precision(),
+                c.recall(), report.static_ratio_mean,
                 report.static_ratio_min, report.image_ms_per_frame, report.tracking_ms_per_frame,
                 report.classification_ms_per_frame);
   log << line;

@@ -13,11 +13,34 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+DynamicFilterOptions long_baseline_filter(const ImageFrontendOptions& o) {
+  DynamicFilterOptions f = o.filter;
+  f.threshold_px *= std::pow(std::max(1, o.baseline_frames), o.baseline_threshold_exponent);
+  return f;
+}
+
 }  // namespace
 
 ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const CameraModel> camera, GrayImage mask)
-    : options_(options), tracker_(options.tracker, std::move(mask)), filter_(options.filter, std::move(camera)) {
+    : options_(options),
+      tracker_(options.tracker, std::move(mask)),
+      filter_(options.filter, camera),
+      filter_long_(long_baseline_filter(options), camera) {
   if (options_.baseline_frames < 1) throw std::invalid_argument("ImageFrontend: baseline_frames must be >= 1");
+  if (!(options_.baseline_threshold_exponent >= 0.0 && options_.baseline_threshold_exponent <= 1.0))
+    throw std::invalid_argument("ImageFrontend: baseline_threshold_exponent must be in [0, 1]");
+  if (options_.consistency_checks < 1 || options_.consistency_checks > 16)
+    throw std::invalid_argument("ImageFrontend: consistency_checks must be in 1..16");
+  if (options_.consistency_hits < 1 || options_.consistency_hits > options_.consistency_checks)
+    throw std::invalid_argument("ImageFrontend: consistency_hits must be in 1..consistency_checks");
+}
+
+FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int hits, bool was_dynamic) {
+  if (count <= 0) return FeatureMotion::kUnknown;
+  const int n = std::min(count, checks);
+  int h = 0;
+  for (int i = 0; i < n; ++i) h += (over >> i) & 1;
+  return h >= (was_dynamic ? 1 : hits) ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
 }
 
 FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
@@ -55,18 +78,33 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
     bool any = false;
     for (std::size_t m = 0; m < index.size() && !any; ++m) any = baseline[index[m]] == b;
     if (!any) continue;
-    const Classification c = filter_.classify(p1, p2);
+    const Classification c = (b > 1 ? filter_long_ : filter_).classify(p1, p2);
     if (b == longest) out.status = c.status;
     for (std::size_t m = 0; m < index.size(); ++m) {
       FrontendFeature& f = out.features[index[m]];
       if (baseline[index[m]] != b) continue;
       f.motion = c.flags[m];
       f.baseline = b;
+      f.uv_then = p1[m];
     }
   }
-  // Sticky flags, bookkeeping of the current ids only.
+  // Consistency over the track's last tests, then sticky flags; bookkeeping of the current ids only.
+  std::unordered_map<std::int64_t, TestHistory> tests;
+  tests.reserve(out.features.size());
   std::unordered_set<std::int64_t> still;
   for (FrontendFeature& f : out.features) {
+    TestHistory h;
+    if (const auto it = tests_.find(f.id); it != tests_.end()) h = it->second;
+    if (f.motion != FeatureMotion::kUnknown) {  // a test ran this frame: shift it in
+      h.over = static_cast<std::uint16_t>((h.over << 1) | (f.motion == FeatureMotion::kDynamic ? 1 : 0));
+      h.count = std::min(h.count + 1, 16);
+      f.motion = consistent_motion(h.over, h.count, options_.consistency_checks, options_.consistency_hits, h.dynamic);
+      h.dynamic = f.motion == FeatureMotion::kDynamic;
+    }
+    const int n = std::min(h.count, options_.consistency_checks);
+    f.checks = n, f.hits = 0;
+    for (int i = 0; i < n; ++i) f.hits += (h.over >> i) & 1;
+    tests.emplace(f.id, h);
     if (options_.sticky_dynamic && flagged_dynamic_.count(f.id)) f.motion = FeatureMotion::kDynamic;
     if (f.motion == FeatureMotion::kDynamic) still.insert(f.id);
     if (f.motion == FeatureMotion::kStatic) ++out.n_static;
@@ -74,6 +112,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
     else ++out.n_unknown;
   }
   flagged_dynamic_.swap(still);
+  tests_.swap(tests);
   const int classified = out.n_static + out.n_dynamic;
   out.static_ratio = classified > 0 ? static_cast<double>(out.n_static) / classified : 1.0;
   // History: this frame becomes t − 1.

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
+#include <ctime>
 #include <stdexcept>
 
 #include "slamkit/core/error.h"
@@ -66,11 +68,16 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
   DetectionScoreOptions so;
   so.label_speed_mps = label_speed_mps;
   so.min_speed_mps = options.min_speed_mps;
+  DetectionScoreOptions so_patch = so;
+  so_patch.patch_half_size_px =
+      options.score_patch_half_size_px >= 0 ? options.score_patch_half_size_px : options.frontend.tracker.klt_window / 2;
   ImageVioReport r;
+  r.score_patch_half_size_px = so_patch.patch_half_size_px;
   VisualInertialSim out = sim;
   out.landmarks.clear();  // the tracks are not the simulator's landmarks
   out.pixel_noise_sigma = options.pixel_sigma;
   GrayImage image, labels;
+  std::deque<LabelImage> label_history;  // front: frame k
   double m_sum = 0.0, features = 0.0;
   std::size_t m_frames = 0;
   for (std::size_t k = 0; k < sim.frames.size(); ++k) {
@@ -78,8 +85,10 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
     source(k, &image, &labels);
     r.image_s += ms_since(t0) * 1e-3;
     FrontendFrameResult f;
+    const std::clock_t cpu0 = std::clock();
     try {
       f = frontend.process(image);
+      r.frontend_cpu_s += static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     } catch (const std::invalid_argument& e) {
       throw InputError(sim.source, 0, "image", "frame " + std::to_string(k) + ": " + e.what());
     }
@@ -87,18 +96,31 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
     r.tracking_ms_per_frame += f.tracking_ms, r.classification_ms_per_frame += f.classification_ms;
     std::vector<SimObservation>& obs = out.frames[k].observations;
     obs.clear();
-    std::vector<Eigen::Vector2d> uv;
-    std::vector<FeatureMotion> flags;
     for (const FrontendFeature& x : f.features) {
       SimObservation o;
       o.track_id = x.id, o.landmark_id = -1, o.uv = x.uv;
       o.dynamic = x.motion == FeatureMotion::kDynamic;
       obs.push_back(o);
-      if (x.motion != FeatureMotion::kUnknown) uv.push_back(x.uv), flags.push_back(x.motion);
     }
     features += static_cast<double>(f.features.size());
-    if (!labels.empty() && labels.width == image.width && labels.height == image.height)
-      r.score += score_against_labels(uv, flags, to_label_image(labels), so);
+    // Scoring of the classified features: the patch rule at both ends of the tested baseline
+    // (frames t − b and t), and the centre rule at t (the figure reported before).
+    const bool labelled = !labels.empty() && labels.width == image.width && labels.height == image.height;
+    label_history.push_front(labelled ? to_label_image(labels) : LabelImage{});
+    while (static_cast<int>(label_history.size()) > options.frontend.baseline_frames + 1) label_history.pop_back();
+    if (labelled) {
+      for (const FrontendFeature& x : f.features) {
+        if (x.motion == FeatureMotion::kUnknown || x.baseline <= 0) continue;
+        const LabelImage& now = label_history.front();
+        add_to_score(label_truth(now, x.uv, 0), x.motion, so, &r.score_centre);
+        const LabelImage& then = label_history.at(std::min<std::size_t>(x.baseline, label_history.size() - 1));
+        const int truth_now = label_truth(now, x.uv, so_patch.patch_half_size_px);
+        const int truth = then.labels.empty() || static_cast<std::size_t>(x.baseline) >= label_history.size()
+                              ? truth_now
+                              : track_truth(label_truth(then, x.uv_then, so_patch.patch_half_size_px), truth_now);
+        add_to_score(truth, x.motion, so_patch, &r.score);
+      }
+    }
     if (k > 0) {  // the first frame has nothing to classify
       m_sum += f.static_ratio, ++m_frames;
       r.static_ratio_min = std::min(r.static_ratio_min, f.static_ratio);

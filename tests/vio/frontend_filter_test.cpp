@@ -184,5 +184,38 @@ TEST(FrontendScoring, CountsAndVacuousRatios) {
   EXPECT_THROW(score_against_labels(uv, {}, labels), std::invalid_argument);
 }
 
+// Patch rule: the labels under the feature's (2h+1)² patch decide; a patch straddling a silhouette
+// is "mixed" (counted, not scored), where the centre rule calls it by its centre pixel.
+TEST(FrontendScoring, PatchRuleSeparatesSilhouettes) {
+  LabelImage labels(20, 20);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 10; x < 20; ++x) labels.at(x, y) = 1;  // object 1 fills the right half
+  const std::vector<Eigen::Vector2d> uv{{15, 10}, {10, 10}, {8, 10}, {3, 3}, {18.6, 19.4}};
+  const std::vector<FeatureMotion> flags{FeatureMotion::kDynamic, FeatureMotion::kStatic, FeatureMotion::kDynamic,
+                                         FeatureMotion::kStatic, FeatureMotion::kDynamic};
+  DetectionScoreOptions centre;
+  const DetectionScore c = score_against_labels(uv, flags, labels, centre);
+  EXPECT_EQ(c.true_positive, 2);   // (15,10), (19,19)
+  EXPECT_EQ(c.false_negative, 1);  // (10,10): its centre is on the object
+  EXPECT_EQ(c.false_positive, 1);  // (8,10): its centre is static, two pixels from the edge
+  EXPECT_EQ(c.true_negative, 1);
+  EXPECT_EQ(c.mixed, 0);
+  DetectionScoreOptions patch;
+  patch.patch_half_size_px = 2;
+  const DetectionScore p = score_against_labels(uv, flags, labels, patch);
+  EXPECT_EQ(p.true_positive, 2);  // the corner patch (17..19)² is clipped to the image, all object
+  EXPECT_EQ(p.false_negative, 0);
+  EXPECT_EQ(p.false_positive, 0);
+  EXPECT_EQ(p.true_negative, 1);
+  EXPECT_EQ(p.mixed, 2);
+  EXPECT_EQ(p.mixed_flagged, 1);
+  EXPECT_DOUBLE_EQ(p.precision(), 1.0);
+  // A slow object's patch is excluded, as under the centre rule.
+  patch.label_speed_mps = {{1, 0.1}};
+  const DetectionScore slow = score_against_labels(uv, flags, labels, patch);
+  EXPECT_EQ(slow.excluded, 2);
+  EXPECT_EQ(slow.true_positive, 0);
+}
+
 }  // namespace
 }  // namespace slamkit

@@ -9,8 +9,16 @@
 // matches (p_{t−k}, p_t) of all tracks alive over k frames give F_k by RANSAC; younger features
 // (0 < a < k) take their flag from the frame-to-frame test (F_1 on all tracked features), so
 // two filter runs per frame at most (with every b in 1..k the classification cost grew k-fold).
+// Multi-frame consistency with hysteresis: each track keeps the outcomes of its last n =
+// consistency_checks epipolar tests (d > threshold or not). A static track becomes dynamic when
+// at least consistency_hits of them exceed the threshold; a dynamic one stays dynamic while at
+// least one of them does (it returns to static after n tests under the threshold). A static point
+// whose distance crosses the threshold once by noise or a KLT slip stays static; a mover exceeds
+// it test after test, and a mover's test dipping under the threshold once does not unflag it.
+// consistency_checks = consistency_hits = 1 is the single-test rule.
 // New features (age 0) are unknown. With sticky_dynamic a track once flagged dynamic stays so
 // (moving objects rarely stop; a flag lost at a short baseline is not a change of motion).
+// The threshold grows with the baseline b as b^baseline_threshold_exponent (√b by default).
 // M = static / (static + dynamic) over the features of the frame.
 #pragma once
 
@@ -33,6 +41,14 @@ struct ImageFrontendOptions {
   DynamicFilterOptions filter;
   int baseline_frames = 4;      ///< k: the longest baseline of the epipolar test (1: frame to frame)
   bool sticky_dynamic = false;  ///< a track flagged dynamic once stays dynamic (measured: worse precision)
+  /// The test on baseline b uses threshold_px · b^e: a mover's epipolar distance grows like b, the
+  /// KLT drift of a static track like √b (a random walk), so e = 0.5 keeps the false-alarm rate of
+  /// the long baseline near the frame-to-frame one; e = 0: the same threshold on every baseline.
+  double baseline_threshold_exponent = 0.5;
+  /// Consistency rule (see above). Default 1 of 1 (the single test): on rooms 1–4 (high, 20 s)
+  /// 2 of 3 with hysteresis raised precision by ≤ 0.015 and cut recall by 0.05–0.08 (docs/frontend.md).
+  int consistency_checks = 1;   ///< n: the last n epipolar tests of a track are kept (1..16)
+  int consistency_hits = 1;     ///< dynamic iff ≥ this many of them exceed the threshold (1..n)
 };
 
 struct FrontendFeature {
@@ -40,6 +56,9 @@ struct FrontendFeature {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  ///< raw (distorted) pixel in the current frame
   FeatureMotion motion = FeatureMotion::kUnknown;
   int baseline = 0;  ///< frames between the two views it was classified on (0: not classified)
+  Eigen::Vector2d uv_then = Eigen::Vector2d::Zero();  ///< its pixel `baseline` frames ago (baseline > 0)
+  int hits = 0;      ///< tests over the threshold among the track's last consistency_checks
+  int checks = 0;    ///< tests kept (≤ consistency_checks)
 };
 
 struct FrontendFrameResult {
@@ -65,11 +84,24 @@ class ImageFrontend {
  private:
   ImageFrontendOptions options_;
   FeatureTracker tracker_;
-  DynamicFeatureFilter filter_;
+  DynamicFeatureFilter filter_;       ///< baseline 1
+  DynamicFeatureFilter filter_long_;  ///< baseline k (threshold · k^e)
   /// history_[j]: positions of the features tracked in frame t − 1 − j (j < k).
   std::deque<std::unordered_map<std::int64_t, Eigen::Vector2d>> history_;
   std::unordered_set<std::int64_t> flagged_dynamic_;
+  /// Per live track: bit i = the test i frames ago exceeded the threshold; and the number of tests.
+  struct TestHistory {
+    std::uint16_t over = 0;
+    int count = 0;
+    bool dynamic = false;  ///< the rule's last decision
+  };
+  std::unordered_map<std::int64_t, TestHistory> tests_;
 };
+
+/// The consistency rule on one track's test history (bit i: test i ago over the threshold): of the
+/// last min(count, checks) tests, dynamic iff at least `hits` were over it, or at least one when
+/// the track was dynamic before (hysteresis); unknown when count = 0.
+FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int hits, bool was_dynamic = false);
 
 /// A detection mask for a fisheye image: non-zero inside the circle of radius (radius_px − margin_px)
 /// about the principal point (cx, cy); radius 0 gives an empty mask (whole image usable).

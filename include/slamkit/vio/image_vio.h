@@ -5,8 +5,9 @@
 // tracked feature (track id = feature id, uv = the raw fisheye pixel, which the estimator
 // undistorts to a bearing with the camera model; dynamic = flagged dynamic by the epipolar test,
 // unknown counted as static). The IMU, the truth and the camera are the simulator's.
-// Every classified feature is scored against the label image at its pixel (vio/frontend_scoring.h,
-// objects slower than min_speed_mps excluded). Image time (rendering or PNG reading) is timed
+// Every classified feature is scored against the label image (vio/frontend_scoring.h, objects
+// slower than min_speed_mps excluded) by the patch rule (the labels under its KLT window; mixed
+// patches counted apart) and by the centre-pixel rule. Image time (rendering or PNG reading) is timed
 // apart from tracking and classification.
 #pragma once
 
@@ -30,17 +31,23 @@ struct ImageVioOptions {
   double pixel_sigma = 1.0;
   double mask_margin_px = 8.0;  ///< corners are detected this far inside the fisheye mask circle
   double min_speed_mps = 0.3;   ///< slower objects are not scored (issue 13)
+  /// Patch rule of the scoring (vio/frontend_scoring.h): half side of the label patch; −1: the KLT
+  /// window's (klt_window / 2), 0: centre pixel only. The centre rule is always reported too.
+  int score_patch_half_size_px = -1;
 };
 
 struct ImageVioReport {
-  DetectionScore score;                 ///< over all frames
+  DetectionScore score;                 ///< over all frames, patch rule
+  DetectionScore score_centre;          ///< over all frames, centre-pixel rule
+  int score_patch_half_size_px = 0;     ///< the patch rule's h
   double static_ratio_mean = 1.0, static_ratio_min = 1.0;
   std::size_t frames = 0;
   std::size_t frames_too_few_matches = 0, frames_no_fundamental = 0, frames_static_camera = 0;
   double features_per_frame = 0.0;
   double image_ms_per_frame = 0.0;      ///< rendering (or reading the PNGs), wall clock
   double tracking_ms_per_frame = 0.0, classification_ms_per_frame = 0.0;
-  double image_s = 0.0, frontend_s = 0.0;  ///< totals
+  double image_s = 0.0, frontend_s = 0.0;  ///< totals (wall clock)
+  double frontend_cpu_s = 0.0;          ///< tracking + classification, process CPU time (all threads)
   std::string image_source;             ///< "rendered in memory" or the folder
 };
 
