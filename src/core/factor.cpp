@@ -36,8 +36,12 @@ double Factor::linearize(const double* const* params, double* residual, double* 
     if (jacobians && jacobians[v]) noise_->whiten_jacobian(jacobians[v], variable_manifold(v).tangent_dim());
   double s = 0.0;
   for (int i = 0; i < n; ++i) s += residual[i] * residual[i];
-  if (!kernel_) return s;
+  return kernel_ ? robustify(s, residual, jacobians) : s;
+}
 
+double Factor::robustify(double s, double* residual, double* const* jacobians) const {
+  const int n = residual_dim_;
+  const std::size_t k = keys_.size();
   double rho[3];
   kernel_->evaluate(s, rho);
   if (!(rho[1] > 0.0) || s == 0.0) {

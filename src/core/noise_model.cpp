@@ -1,6 +1,7 @@
 #include "slamkit/core/noise_model.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -24,13 +25,26 @@ std::shared_ptr<const NoiseModel> NoiseModel::diagonal(const Eigen::VectorXd& si
   return m;
 }
 
+namespace {
+// R (upper, RᵀR = Ω) by a fixed-size Cholesky: no heap temporaries for the pose-graph sizes.
+template <int N>
+bool upper_cholesky(const Eigen::MatrixXd& omega, Eigen::MatrixXd* upper) {
+  const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(omega);
+  if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().array() > 0.0).all()) return false;
+  *upper = llt.matrixU();
+  return true;
+}
+}  // namespace
+
 std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd& omega) {
   const int n = static_cast<int>(omega.rows());
   if (omega.cols() != n || !omega.allFinite())
     throw NumericalError("NoiseModel::information: matrix is not square or not finite");
   const double scale = omega.cwiseAbs().maxCoeff();
-  if ((omega - omega.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
-    throw NumericalError("NoiseModel::information: matrix is not symmetric");
+  double asymmetry = 0.0;
+  for (int c = 0; c < n; ++c)
+    for (int r = c + 1; r < n; ++r) asymmetry = std::max(asymmetry, std::abs(omega(r, c) - omega(c, r)));
+  if (asymmetry > 1e-9 * scale) throw NumericalError("NoiseModel::information: matrix is not symmetric");
   // Diagonal information: no dense whitening needed.
   bool diagonal = true;
   for (int c = 0; c < n && diagonal; ++c)
@@ -43,11 +57,18 @@ std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd&
     m->diag_ = omega.diagonal().cwiseSqrt();
     return m;
   }
-  const Eigen::LLT<Eigen::MatrixXd> llt(omega);
-  if (llt.info() != Eigen::Success || !(llt.matrixL().toDenseMatrix().diagonal().array() > 0.0).all())
-    throw NumericalError("NoiseModel::information: matrix is not positive definite");
   auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDense, n));
-  m->upper_ = llt.matrixU();
+  bool ok = false;
+  if (n == 3) {
+    ok = upper_cholesky<3>(omega, &m->upper_);
+  } else if (n == 6) {
+    ok = upper_cholesky<6>(omega, &m->upper_);
+  } else {
+    const Eigen::LLT<Eigen::MatrixXd> llt(omega);
+    ok = llt.info() == Eigen::Success && (llt.matrixLLT().diagonal().array() > 0.0).all();
+    if (ok) m->upper_ = llt.matrixU();
+  }
+  if (!ok) throw NumericalError("NoiseModel::information: matrix is not positive definite");
   return m;
 }
 

@@ -7,9 +7,13 @@ namespace slamkit {
 
 Eigen::Vector3d pose2_edge_error(const SE2& Z, const SE2& Xi, const SE2& Xj, Eigen::Matrix3d* J_e_Xi,
                                  Eigen::Matrix3d* J_e_Xj) {
+  return pose2_edge_error(Z, Z.rotation().matrix().transpose(), Xi, Xj, J_e_Xi, J_e_Xj);
+}
+
+Eigen::Vector3d pose2_edge_error(const SE2& Z, const Eigen::Matrix2d& Rzt, const SE2& Xi, const SE2& Xj,
+                                 Eigen::Matrix3d* J_e_Xi, Eigen::Matrix3d* J_e_Xj) {
   // A = Xi⁻¹ Xj = (R_iᵀ (t_j − t_i), θ_j − θ_i), E = Z⁻¹ A = (R_zᵀ (t_A − t_z), θ_A − θ_z).
   const Eigen::Matrix2d Rit = Xi.rotation().matrix().transpose();
-  const Eigen::Matrix2d Rzt = Z.rotation().matrix().transpose();
   const Eigen::Vector2d ta = Rit * (Xj.translation() - Xi.translation());
   const double theta = wrap_angle(Xj.theta() - Xi.theta() - Z.theta());
   const Eigen::Vector2d te = Rzt * (ta - Z.translation());

@@ -6,7 +6,7 @@ namespace slamkit {
 
 BetweenFactorSE2::Residual BetweenFactorSE2::error(const SE2& Xi, const SE2& Xj, Jacobian<SE2>* J_i,
                                                    Jacobian<SE2>* J_j) const {
-  return pose2_edge_error(measured_, Xi, Xj, J_i, J_j);
+  return pose2_edge_error(measured_, measured_rotation_t_, Xi, Xj, J_i, J_j);
 }
 
 BetweenFactorSE3::Residual BetweenFactorSE3::error(const SE3& Xi, const SE3& Xj, Jacobian<SE3>* J_i,

@@ -22,16 +22,27 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphPro
     }
   }
   add_calibration_to_problem(g, options.calibration, p.values, p.graph, p.calibration);
+  // Noise models are immutable: an edge with the same information as the previous one shares
+  // its model (most files use one information matrix for all or runs of edges).
+  const Eigen::MatrixXd* previous_information = nullptr;
+  std::shared_ptr<const NoiseModel> previous_noise;
   for (const GraphEdge& e : g.edges) {
     std::shared_ptr<const NoiseModel> noise;
-    try {
-      noise = NoiseModel::information(e.information);
-    } catch (const NumericalError&) {
-      const InformationCheck c = check_information(e.information);
-      throw InputError(g.source, e.line, "information",
-                       std::string("information matrix of edge ") + std::to_string(e.from) + "-" + std::to_string(e.to) +
-                           " is " + to_string(c.status) + " (min eigenvalue " + std::to_string(c.min_eigenvalue) +
-                           "); use --repair-information to project it to the PSD cone");
+    if (previous_information && previous_information->rows() == e.information.rows() &&
+        previous_information->cols() == e.information.cols() && *previous_information == e.information) {
+      noise = previous_noise;
+    } else {
+      try {
+        noise = NoiseModel::information(e.information);
+      } catch (const NumericalError&) {
+        const InformationCheck c = check_information(e.information);
+        throw InputError(g.source, e.line, "information",
+                         std::string("information matrix of edge ") + std::to_string(e.from) + "-" +
+                             std::to_string(e.to) + " is " + to_string(c.status) + " (min eigenvalue " +
+                             std::to_string(c.min_eigenvalue) + "); use --repair-information to project it to the PSD cone");
+      }
+      previous_information = &e.information;
+      previous_noise = noise;
     }
     const auto kernel = (options.kernel_on_odometry || !is_odometry(e)) ? options.kernel : nullptr;
     if (e.calibrated) {

@@ -14,13 +14,24 @@ BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<st
   for (int i = 0; i < nb; ++i) block_starts_[i + 1] = block_starts_[i] + block_dims_[i];
   rows_ = block_starts_[nb];
 
-  for (auto& [i, j] : blocks)
+  for (auto& [i, j] : blocks) {
     if (i < j) std::swap(i, j);  // lower triangle: i ≥ j
+    if (j < 0 || i >= nb) throw std::out_of_range("BlockSparseMatrix: block index out of range");
+  }
   for (int i = 0; i < nb; ++i) blocks.emplace_back(i, i);
-  // Sort by (column, row) and drop duplicates.
-  std::sort(blocks.begin(), blocks.end(), [](const auto& a, const auto& b) {
-    return a.second != b.second ? a.second < b.second : a.first < b.first;
-  });
+  // Sort by (column, row) and drop duplicates: two stable counting sorts (by row, then by
+  // column), O(blocks + nb) instead of a comparison sort.
+  {
+    std::vector<std::pair<int, int>> by_row(blocks.size());
+    std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1, 0);
+    for (const auto& b : blocks) ++start[b.first + 1];
+    for (int k = 0; k < nb; ++k) start[k + 1] += start[k];
+    for (const auto& b : blocks) by_row[start[b.first]++] = b;
+    std::fill(start.begin(), start.end(), 0);
+    for (const auto& b : by_row) ++start[b.second + 1];
+    for (int k = 0; k < nb; ++k) start[k + 1] += start[k];
+    for (const auto& b : by_row) blocks[start[b.second]++] = b;
+  }
   blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
 
   block_col_ptr_.assign(nb + 1, 0);

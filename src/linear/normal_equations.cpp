@@ -162,27 +162,40 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values,
   g_ = Eigen::VectorXd::Zero(H_.rows());
   diag_ = Eigen::VectorXd::Zero(H_.rows());
 
-  // Contributions grouped by block column (the smaller block index), in factor order.
-  contributions_.assign(H_.num_blocks(), {});
-  for (const FactorSlot& s : slots_) {
-    const std::size_t k = s.factor->keys().size();
-    for (std::size_t a = 0; a < k; ++a) {
-      const int ba = block_of_var_[var_index_[s.first_var + a]];
-      if (ba < 0) continue;
-      for (std::size_t b = 0; b < k; ++b) {
-        const int bb = block_of_var_[var_index_[s.first_var + b]];
-        if (bb < 0 || ba < bb || (ba == bb && a != b)) continue;
-        Contribution c;
-        c.ja = static_cast<std::size_t>(var_jacobian_[s.first_var + a]);
-        c.jb = static_cast<std::size_t>(var_jacobian_[s.first_var + b]);
-        c.dest = H_.block_offset(ba, bb);
-        c.rows = s.residual_dim;
-        c.di = dims[ba];
-        c.dj = dims[bb];
-        c.ld = H_.leading_dim(bb);
-        c.residual = s.residual_offset;
-        c.diagonal = ba == bb;
-        contributions_[bb].push_back(c);
+  // Contributions grouped by block column (the smaller block index), in factor order: one
+  // flat array, column j at [contribution_start_[j], contribution_start_[j + 1]) (counting
+  // sort: a first pass counts per column, the second fills).
+  contribution_start_.assign(static_cast<std::size_t>(H_.num_blocks()) + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<std::size_t> next;
+    if (pass == 1) {
+      for (int j = 0; j < H_.num_blocks(); ++j) contribution_start_[j + 1] += contribution_start_[j];
+      contributions_.resize(contribution_start_.back());
+      next.assign(contribution_start_.begin(), contribution_start_.end() - 1);
+    }
+    for (const FactorSlot& s : slots_) {
+      const std::size_t k = s.factor->keys().size();
+      for (std::size_t a = 0; a < k; ++a) {
+        const int ba = block_of_var_[var_index_[s.first_var + a]];
+        if (ba < 0) continue;
+        for (std::size_t b = 0; b < k; ++b) {
+          const int bb = block_of_var_[var_index_[s.first_var + b]];
+          if (bb < 0 || ba < bb || (ba == bb && a != b)) continue;
+          if (pass == 0) {
+            ++contribution_start_[bb + 1];
+            continue;
+          }
+          Contribution& c = contributions_[next[bb]++];
+          c.ja = static_cast<std::size_t>(var_jacobian_[s.first_var + a]);
+          c.jb = static_cast<std::size_t>(var_jacobian_[s.first_var + b]);
+          c.dest = H_.block_offset(ba, bb);
+          c.rows = s.residual_dim;
+          c.di = dims[ba];
+          c.dj = dims[bb];
+          c.ld = H_.leading_dim(bb);
+          c.residual = s.residual_offset;
+          c.diagonal = ba == bb;
+        }
       }
     }
   }
@@ -210,7 +223,8 @@ void NormalEquations::assemble_column(int j) {
   std::fill(col, col + static_cast<std::ptrdiff_t>(ld) * dj, 0.0);
   Eigen::Map<Eigen::VectorXd> gj(g_.data() + H_.block_start(j), dj);
   gj.setZero();
-  for (const Contribution& c : contributions_[j]) {
+  for (std::size_t q = contribution_start_[j]; q < contribution_start_[j + 1]; ++q) {
+    const Contribution& c = contributions_[q];
     add_at_b(jacobians_.data() + c.ja, jacobians_.data() + c.jb, H_.values().data() + c.dest, c.rows, c.di, c.dj, c.ld);
     if (c.diagonal) add_at_b(jacobians_.data() + c.jb, residuals_.data() + c.residual, gj.data(), c.rows, c.dj, 1, dj);
   }

@@ -99,6 +99,7 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   s.factor_flops = chol->stats().factor_flops;
 
   detail::LinearContext ctx(ne, *chol);
+  ctx.set_direct_solves(!schur);  // the Schur path may solve iteratively (PCG)
   auto strategy = detail::make_step_strategy(options_);
   Values x = values, candidate = values;
   // Best iterate so far: Gauss-Newton may pass through worse points; it never ends on one.

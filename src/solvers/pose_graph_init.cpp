@@ -112,6 +112,45 @@ void initialize_points(PoseGraph& g) {
   if (missing) complete_estimates_by_odometry(g);
 }
 
+// The unknowns of the initialization's linear systems: the non-gauge poses, numbered in
+// elimination order (so that the Cholesky factorizes a system as stored): the shared vertex
+// order if given, else a new one; and the block pattern of their normal equations. Computed
+// once and shared by every system over the same poses (2D: orientations and positions).
+struct PoseLayout {
+  std::vector<int> unknown;                // pose k → unknown (−1 for gauge poses)
+  int n = 0;                               // number of unknowns
+  std::vector<std::pair<int, int>> pattern;  // off-diagonal blocks (unknown, unknown)
+};
+
+PoseLayout pose_layout(const PoseIndex& ix, const std::vector<std::pair<int, int>>& edges, const InitOptions& o) {
+  PoseLayout l;
+  std::vector<int> free_index(ix.vertex.size(), -1);
+  for (std::size_t k = 0; k < ix.vertex.size(); ++k)
+    if (!ix.gauge[k]) free_index[k] = l.n++;
+  std::vector<std::pair<int, int>> free_edges;
+  for (const auto& [a, b] : edges)
+    if (free_index[a] >= 0 && free_index[b] >= 0 && a != b) free_edges.emplace_back(free_index[a], free_index[b]);
+  EliminationOrder order;
+  if (!o.vertex_order.order.empty()) {
+    order.method = o.vertex_order.method;
+    for (int v : o.vertex_order.order) {
+      const int pose = ix.pose_of.at(static_cast<std::size_t>(v));
+      if (pose >= 0 && free_index[pose] >= 0) order.order.push_back(free_index[pose]);
+    }
+    order = postordered(l.n, free_edges, std::move(order));
+  } else {
+    order = compute_elimination_order(l.n, free_edges, o.ordering);
+  }
+  std::vector<int> position(l.n);
+  for (int p = 0; p < l.n; ++p) position[order.order[p]] = p;
+  l.unknown.assign(ix.vertex.size(), -1);
+  for (std::size_t k = 0; k < ix.vertex.size(); ++k)
+    if (free_index[k] >= 0) l.unknown[k] = position[free_index[k]];
+  l.pattern.reserve(free_edges.size());
+  for (const auto& [a, b] : free_edges) l.pattern.emplace_back(position[a], position[b]);
+  return l;
+}
+
 // The normal equations of a linear least-squares problem over the non-gauge poses, with
 // B×B blocks and up to three right-hand sides. Gauge (known) poses are eliminated into the
 // right-hand side. The pattern, and its symbolic factorization, are fixed at construction.
@@ -121,38 +160,10 @@ class PoseSystem {
   using Block = Eigen::Matrix<double, B, B>;
   using Rhs = Eigen::Matrix<double, B, Eigen::Dynamic, (B == 1 ? Eigen::RowMajor : Eigen::ColMajor), B, 3>;
 
-  PoseSystem(const PoseIndex& ix, const std::vector<std::pair<int, int>>& edges, int rhs, const InitOptions& o,
-             InitSummary& summary)
-      : summary_(summary) {
+  PoseSystem(const PoseLayout& layout, int rhs, const InitOptions& o, InitSummary& summary)
+      : unknown_(layout.unknown), summary_(summary) {
     const auto t0 = std::chrono::steady_clock::now();
-    // Unknowns: the non-gauge poses, numbered in elimination order (so that the Cholesky
-    // factorizes the system as stored): the shared vertex order if given, else a new one.
-    std::vector<int> free_index(ix.vertex.size(), -1);
-    int n = 0;
-    for (std::size_t k = 0; k < ix.vertex.size(); ++k)
-      if (!ix.gauge[k]) free_index[k] = n++;
-    std::vector<std::pair<int, int>> free_edges;
-    for (const auto& [a, b] : edges)
-      if (free_index[a] >= 0 && free_index[b] >= 0 && a != b) free_edges.emplace_back(free_index[a], free_index[b]);
-    EliminationOrder order;
-    if (!o.vertex_order.order.empty()) {
-      order.method = o.vertex_order.method;
-      for (int v : o.vertex_order.order) {
-        const int pose = ix.pose_of.at(static_cast<std::size_t>(v));
-        if (pose >= 0 && free_index[pose] >= 0) order.order.push_back(free_index[pose]);
-      }
-      order = postordered(n, free_edges, std::move(order));
-    } else {
-      order = compute_elimination_order(n, free_edges, o.ordering);
-    }
-    std::vector<int> position(n);
-    for (int p = 0; p < n; ++p) position[order.order[p]] = p;
-    unknown_.assign(ix.vertex.size(), -1);
-    for (std::size_t k = 0; k < ix.vertex.size(); ++k)
-      if (free_index[k] >= 0) unknown_[k] = position[free_index[k]];
-    std::vector<std::pair<int, int>> pattern;
-    for (const auto& [a, b] : free_edges) pattern.emplace_back(position[a], position[b]);
-    A_ = BlockSparseMatrix(std::vector<int>(n, B), pattern);
+    A_ = BlockSparseMatrix(std::vector<int>(layout.n, B), layout.pattern);
     B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
     chol_ = make_sparse_cholesky(o.linear_solver, o.ordering, o.threads);
     chol_->analyze(A_);
@@ -205,7 +216,7 @@ class PoseSystem {
     return Eigen::Map<Block, 0, Eigen::OuterStride<>>(A_.values().data() + A_.block_offset(i, j),
                                                       Eigen::OuterStride<>(A_.leading_dim(j)));
   }
-  std::vector<int> unknown_;
+  const std::vector<int>& unknown_;
   BlockSparseMatrix A_;
   Eigen::MatrixXd B_;
   std::unique_ptr<SparseCholesky> chol_;
@@ -240,7 +251,10 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSumm
   summary.time_tree_s += seconds_since(t);
   const auto pairs = pose_pairs(ix);
   using Scalar1 = Eigen::Matrix<double, 1, 1>;
-  PoseSystem<1> theta_sys(ix, pairs, 1, o, summary);
+  auto t_layout = std::chrono::steady_clock::now();
+  const PoseLayout layout = pose_layout(ix, pairs, o);
+  summary.time_analyze_s += seconds_since(t_layout);
+  PoseSystem<1> theta_sys(layout, 1, o, summary);
   t = std::chrono::steady_clock::now();
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
@@ -259,26 +273,57 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSumm
   std::vector<double> th(n);
   for (std::size_t k = 0; k < n; ++k) th[k] = ix.gauge[k] ? tree_theta[k] : theta(theta_sys.unknown(k), 0);
 
-  PoseSystem<2> pos_sys(ix, pairs, 1, o, summary);
-  t = std::chrono::steady_clock::now();
-  const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
-  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+  // Positions given θ: g2o's translation error R_zᵀ(R_aᵀ(p_b − p_a) − t_z) has weight
+  // (R_a R_z) Ω_xy (R_a R_z)ᵀ. When every Ω_xy is isotropic (s I: M3500, city10000, ...), that
+  // weight is s I and the system is the weighted Laplacian ⊗ I₂: the θ system's pattern, order
+  // and symbolic analysis solve it with x and y as two right-hand sides, 1×1 blocks.
+  bool isotropic = true;
+  for (std::size_t e = 0; e < g.edges.size() && isotropic; ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;
-    const GraphEdge& edge = g.edges[e];
-    // g2o error translation R_zᵀ(R_aᵀ(p_b − p_a) − t_z) given θ: weight (R_a R_z) Ω_xy (R_a R_z)ᵀ.
-    const Eigen::Matrix2d Ra = SO2(th[a]).matrix();
-    const Eigen::Matrix2d M = Ra * edge.pose2.rotation().matrix();
-    const Eigen::Matrix2d W = M * edge.information.topLeftCorner<2, 2>() * M.transpose();
-    pos_sys.add(a, -I2, b, I2, Ra * edge.pose2.translation(), W, g.vertices()[ix.vertex[a]].pose2.translation(),
-                g.vertices()[ix.vertex[b]].pose2.translation());
+    const Eigen::MatrixXd& om = g.edges[e].information;
+    isotropic = om(0, 1) == 0.0 && om(1, 0) == 0.0 && om(0, 0) == om(1, 1);
   }
-  summary.time_assemble_s += seconds_since(t);
-  const Eigen::MatrixXd pos = pos_sys.solve();
+  t = std::chrono::steady_clock::now();
+  Eigen::MatrixXd pos;
+  if (isotropic) {
+    using Row2 = PoseSystem<1>::Rhs;
+    theta_sys.reset(2);
+    for (std::size_t e = 0; e < g.edges.size(); ++e) {
+      const auto [a, b] = ix.ends[e];
+      if (a < 0 || a == b) continue;
+      const GraphEdge& edge = g.edges[e];
+      const Eigen::Vector2d c = SO2(th[a]).matrix() * edge.pose2.translation();
+      const Eigen::Vector2d pa = g.vertices()[ix.vertex[a]].pose2.translation();
+      const Eigen::Vector2d pb = g.vertices()[ix.vertex[b]].pose2.translation();
+      theta_sys.add(a, Scalar1(-1.0), b, Scalar1(1.0), Row2(c.transpose()), Scalar1(edge.information(0, 0)),
+                    Row2(pa.transpose()), Row2(pb.transpose()));
+    }
+    summary.time_assemble_s += seconds_since(t);
+    pos = theta_sys.solve();  // row u: (x, y) of unknown u
+  } else {
+    PoseSystem<2> pos_sys(layout, 1, o, summary);
+    t = std::chrono::steady_clock::now();
+    const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
+    for (std::size_t e = 0; e < g.edges.size(); ++e) {
+      const auto [a, b] = ix.ends[e];
+      if (a < 0 || a == b) continue;
+      const GraphEdge& edge = g.edges[e];
+      const Eigen::Matrix2d Ra = SO2(th[a]).matrix();
+      const Eigen::Matrix2d M = Ra * edge.pose2.rotation().matrix();
+      const Eigen::Matrix2d W = M * edge.information.topLeftCorner<2, 2>() * M.transpose();
+      pos_sys.add(a, -I2, b, I2, Ra * edge.pose2.translation(), W, g.vertices()[ix.vertex[a]].pose2.translation(),
+                  g.vertices()[ix.vertex[b]].pose2.translation());
+    }
+    summary.time_assemble_s += seconds_since(t);
+    const Eigen::MatrixXd stacked = pos_sys.solve();  // rows 2u, 2u + 1: (x, y) of unknown u
+    pos = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>(stacked.data(),
+                                                                                       stacked.rows() / 2, 2);
+  }
   for (std::size_t k = 0; k < n; ++k) {
     if (ix.gauge[k]) continue;
     GraphVertex& v = g.vertex_at(ix.vertex[k]);
-    v.pose2 = SE2(SO2(th[k]), pos.middleRows<2>(2 * pos_sys.unknown(static_cast<int>(k))));
+    v.pose2 = SE2(SO2(th[k]), pos.row(layout.unknown[k]).transpose());
     v.has_estimate = true;
   }
 }
@@ -296,8 +341,11 @@ void chordal_3d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSum
   const auto pairs = pose_pairs(ix);
   // Unknowns per pose: x = (row k of R)ᵀ for k = 0, 1, 2 as three right-hand sides.
   // Edge R_b = R_a Z ⇒ row: x_b − Zᵀ x_a = 0.
-  PoseSystem<3> sys(ix, pairs, 3, o, summary);
   auto t = std::chrono::steady_clock::now();
+  const PoseLayout layout = pose_layout(ix, pairs, o);
+  summary.time_analyze_s += seconds_since(t);
+  PoseSystem<3> sys(layout, 3, o, summary);
+  t = std::chrono::steady_clock::now();
   const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];

@@ -59,6 +59,18 @@ double LinearContext::quadratic(const Eigen::VectorXd& d) {
   return q;
 }
 
+double LinearContext::model_reduction(const Eigen::VectorXd& d) {
+  if (!step_solves_system_) return -2.0 * gradient().dot(d) - quadratic(d);
+  double reduction = -gradient().dot(d);
+  if (damped_) {  // + δᵀΛδ, Λ the damping currently on the diagonal
+    const auto& pos = ne_.hessian().diagonal_positions();
+    const auto& vals = ne_.hessian().values();
+    const Eigen::VectorXd& diag = ne_.hessian_diagonal();
+    for (int i = 0; i < d.size(); ++i) reduction += (vals[pos[i]] - diag[i]) * d[i] * d[i];
+  }
+  return reduction;
+}
+
 namespace {
 
 // Factorizes H + λ D for growing λ until it works; returns the λ used, or −1.
@@ -87,6 +99,7 @@ class GaussNewton final : public StepStrategy {
     const double used = factorize_with_fallback(ctx, D, fallback_lambda_, 12);
     if (used < 0.0) return false;
     ctx.solve(-ctx.gradient(), step);
+    ctx.mark_step_solves_system();
     return step.allFinite();
   }
   bool accept(double) const override { return true; }  // the driver rejects non-finite costs
@@ -121,6 +134,7 @@ class LevenbergMarquardt final : public StepStrategy {
       if (lambda_ > o_.lm_max_lambda) return false;
     }
     ctx.solve(-ctx.gradient(), step);
+    ctx.mark_step_solves_system();
     return step.allFinite();
   }
   bool accept(double rho) const override { return rho > 0.0; }
@@ -177,6 +191,7 @@ class TrustRegionLM final : public StepStrategy {
     }
     lambda_ = lambda;
     if (p > 1.1 * radius) step *= radius / p;  // inner iterations exhausted: pull back inside
+    else ctx.mark_step_solves_system();         // the last solve's damping is still on H
     return true;
   }
   bool accept(double rho) const override { return rho > o_.tr_accept_threshold; }
@@ -218,6 +233,7 @@ class Dogleg final : public StepStrategy {
     const double gn_norm = gn_.norm(), sd_norm = sd_.norm();
     if (gn_norm <= radius_) {
       step = gn_;
+      ctx.mark_step_solves_system();  // H (+ any fallback damping, still on H) δ = −g
     } else if (sd_norm >= radius_) {
       step = (radius_ / sd_norm) * sd_;
     } else {

@@ -26,17 +26,25 @@ class LinearContext {
   double inverse_factor_norm2(const Eigen::VectorXd& v);
   /// δᵀ H δ with the undamped H.
   double quadratic(const Eigen::VectorXd& d);
-  /// Reduction of the Gauss-Newton model: −2gᵀδ − δᵀHδ.
-  double model_reduction(const Eigen::VectorXd& d) { return -2.0 * gradient().dot(d) - quadratic(d); }
+  /// Reduction of the Gauss-Newton model: −2gᵀδ − δᵀHδ. When δ solves the factorized system
+  /// (H + Λ) δ = −g exactly (a direct solver, step not modified: see mark_step_solves_system),
+  /// δᵀHδ = −gᵀδ − δᵀΛδ, so the reduction is −gᵀδ + δᵀΛδ without a product with H.
+  double model_reduction(const Eigen::VectorXd& d);
+  /// The step just computed is the solution of the factorized system (H + Λ) δ = −g.
+  void mark_step_solves_system() { step_solves_system_ = direct_solves_; }
+  /// Whether solve() is exact up to rounding (false for the iterative Schur path).
+  void set_direct_solves(bool direct) { direct_solves_ = direct; }
 
   int solves = 0;          ///< factorizations since reset_counters()
   double time_s = 0.0;     ///< linear-algebra time since reset_counters()
-  void reset_counters() { solves = 0, time_s = 0.0; }
+  void reset_counters() { solves = 0, time_s = 0.0, step_solves_system_ = false; }
 
  private:
   NormalEquations& ne_;
   SparseCholesky& chol_;
   bool damped_ = false;
+  bool direct_solves_ = false;
+  bool step_solves_system_ = false;  // set per step by the strategy, cleared by reset_counters()
   Eigen::VectorXd work_;
 };
 

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <tuple>
 #include <memory>
 #include <utility>
@@ -46,10 +47,16 @@ class Factor {
   virtual bool evaluate(const double* const* params, double* residual, double* const* jacobians) const = 0;
 
   /// Whitened and robustified residual and Jacobians (see above). Returns ρ(s), the factor's
-  /// contribution to the cost, or NaN if evaluation failed.
-  double linearize(const double* const* params, double* residual, double* const* jacobians) const;
+  /// contribution to the cost, or NaN if evaluation failed. FactorN overrides it with a
+  /// fixed-size path (same arithmetic, no dynamic-size loops or per-variable virtual calls).
+  virtual double linearize(const double* const* params, double* residual, double* const* jacobians) const;
   /// ρ(s) only (no Jacobians); NaN if evaluation failed.
   double cost(const double* const* params, double* residual_workspace) const;
+
+ protected:
+  /// The robust kernel applied to an already whitened residual and Jacobians with s = ‖r̃‖²
+  /// (Triggs' correction, above); returns ρ(s). Requires a kernel.
+  double robustify(double s, double* residual, double* const* jacobians) const;
 
  private:
   std::vector<Key> keys_;
@@ -83,7 +90,60 @@ class FactorN : public Factor {
     return evaluate_impl(params, residual, jacobians, std::index_sequence_for<Vars...>{});
   }
 
+  double linearize(const double* const* params, double* residual, double* const* jacobians) const override {
+    return linearize_typed(*this, params, residual, jacobians);
+  }
+
+ protected:
+  /// Factor::linearize in fixed sizes: error() of `self` (a final class calls it without a
+  /// virtual dispatch), whitening by R in R×R / diagonal fixed-size products, residual and
+  /// Jacobians written once into the caller's buffers. Same arithmetic as the generic path.
+  template <class Self>
+  static double linearize_typed(const Self& self, const double* const* params, double* residual,
+                                double* const* jacobians) {
+    return self.linearize_fixed(self, params, residual, jacobians, std::index_sequence_for<Vars...>{});
+  }
+
  private:
+  // M ← R M for a fixed R-row block (the residual or one Jacobian).
+  template <class M>
+  static void whiten_fixed(const NoiseModel& noise, M& m) {
+    const double* w = noise.whitening_data();
+    if (noise.kind() == NoiseModel::Kind::kDiagonal) {
+      const Eigen::Map<const Eigen::Matrix<double, R, 1>> d(w);
+      for (int c = 0; c < M::ColsAtCompileTime; ++c) m.col(c).array() *= d.array();
+    } else if (noise.kind() == NoiseModel::Kind::kDense) {
+      const Eigen::Map<const Eigen::Matrix<double, R, R>> U(w);
+      for (int c = 0; c < M::ColsAtCompileTime; ++c) {
+        const Eigen::Matrix<double, R, 1> v = U.lazyProduct(m.col(c));
+        m.col(c) = v;
+      }
+    }
+  }
+
+  template <class Self, std::size_t... I>
+  double linearize_fixed(const Self& self, const double* const* params, double* residual, double* const* jacobians,
+                         std::index_sequence<I...>) const {
+    std::tuple<Jacobian<Vars>...> J;
+    const bool want = jacobians != nullptr;
+    Residual r = self.error(ManifoldTraits<Vars>::from_params(params[I])...,
+                                  (want && jacobians[I] ? &std::get<I>(J) : nullptr)...);
+    bool finite = r.allFinite();
+    if (want) ((jacobians[I] ? (finite = finite && std::get<I>(J).allFinite(), 0) : 0), ...);
+    if (!finite) return std::numeric_limits<double>::quiet_NaN();
+    const NoiseModel& noise = *noise_model();
+    whiten_fixed(noise, r);
+    if (want)
+      ((jacobians[I] ? (whiten_fixed(noise, std::get<I>(J)), Eigen::Map<Jacobian<Vars>>(jacobians[I]) = std::get<I>(J), 0)
+                     : 0),
+       ...);
+    Eigen::Map<Residual> out(residual);
+    out = r;
+    double s = 0.0;
+    for (int i = 0; i < R; ++i) s += r[i] * r[i];
+    return robust_kernel() ? robustify(s, residual, jacobians) : s;
+  }
+
   template <std::size_t... I>
   bool evaluate_impl(const double* const* params, double* residual, double* const* jacobians,
                      std::index_sequence<I...>) const {

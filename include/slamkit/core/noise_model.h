@@ -27,6 +27,12 @@ class NoiseModel {
   Eigen::MatrixXd sqrt_information() const;
   Eigen::MatrixXd information_matrix() const;
 
+  /// The whitening data: 1/σ (dim values) for kDiagonal, R column-major (dim × dim) for kDense,
+  /// null for kUnit. For fixed-size whitening in the factors' hot path (core/factor.h).
+  const double* whitening_data() const {
+    return kind_ == Kind::kDiagonal ? diag_.data() : kind_ == Kind::kDense ? upper_.data() : nullptr;
+  }
+
   /// r ← R r (length dim).
   void whiten(double* r) const;
   /// J ← R J for a column-major dim × cols block.

@@ -18,6 +18,9 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 Eigen::Vector3d pose2_edge_error(const SE2& Z, const SE2& Xi, const SE2& Xj,
                                  Eigen::Matrix3d* J_e_Xi = nullptr, Eigen::Matrix3d* J_e_Xj = nullptr);
+/// The same with R_zᵀ = Z.rotation().matrix()ᵀ precomputed (a factor's measurement is fixed).
+Eigen::Vector3d pose2_edge_error(const SE2& Z, const Eigen::Matrix2d& Rzt, const SE2& Xi, const SE2& Xj,
+                                 Eigen::Matrix3d* J_e_Xi, Eigen::Matrix3d* J_e_Xj);
 Vector6d pose3_edge_error(const SE3& Z, const SE3& Xi, const SE3& Xj, Matrix6d* J_e_Xi = nullptr,
                           Matrix6d* J_e_Xj = nullptr);
 Eigen::Vector2d pose2_point_error(const Eigen::Vector2d& z, const SE2& X, const Eigen::Vector2d& p,

@@ -90,7 +90,8 @@ class NormalEquations {
   std::vector<std::ptrdiff_t> var_jacobian_;   // per factor variable: offset in jacobians_, −1 if fixed
   std::vector<std::size_t> free_vars_;         // block k → Values index
   std::vector<int> block_of_var_;              // Values index → block, −1 if not free
-  std::vector<std::vector<Contribution>> contributions_;  // per block column
+  std::vector<Contribution> contributions_;        // grouped by block column, factor order within
+  std::vector<std::size_t> contribution_start_;    // block column j: [start[j], start[j + 1])
   std::vector<double> jacobians_, residuals_, factor_cost_;
   BlockSparseMatrix H_;
   Eigen::VectorXd g_, diag_;
