@@ -1,6 +1,9 @@
 #include "slamkit/sim/calibration_generator.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -121,12 +124,35 @@ PoseGraph calib2d(const CalibrationSimOptions& o, CalibrationTruth* truth, PoseG
     g.edges.push_back(e);
     scan_edge(i, i + 1);
   }
-  // Loop closures to earlier laps: near in position and heading, every other pose.
-  for (int j = 0; j < n; j += 2)
-    for (int i = 0; i + 60 < j; ++i) {
-      const SE2 d = x_true[static_cast<std::size_t>(i)].between(x_true[static_cast<std::size_t>(j)]);
-      if (d.translation().norm() < o.loop_radius && std::abs(d.theta()) < 0.5) scan_edge(i, j);
+  // Loop closures to earlier laps: near in position and heading, every other pose. Candidates
+  // come from a grid of cells a hair wider than loop_radius (the 3×3 cells around a pose hold
+  // every pose within the radius, rounding included) and are visited in increasing i, as the scan
+  // over all earlier poses did: the same graph, in time linear in poses + closures.
+  if (o.loop_radius > 0.0) {
+    const double cell = o.loop_radius * (1.0 + 1e-9);
+    auto cell_of = [&](int i) {
+      const Eigen::Vector2d& p = x_true[static_cast<std::size_t>(i)].translation();
+      return std::make_pair(static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell)));
+    };
+    std::map<std::pair<std::int64_t, std::int64_t>, std::vector<int>> grid;  // cell -> poses, increasing
+    std::vector<int> candidates;
+    int next_in_grid = 0;  // poses i < next_in_grid are in the grid; a pose is a candidate once i + 60 < j
+    for (int j = 0; j < n; j += 2) {
+      for (; next_in_grid + 60 < j; ++next_in_grid) grid[cell_of(next_in_grid)].push_back(next_in_grid);
+      const auto [cx, cy] = cell_of(j);
+      candidates.clear();
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (std::int64_t dy = -1; dy <= 1; ++dy) {
+          const auto it = grid.find({cx + dx, cy + dy});
+          if (it != grid.end()) candidates.insert(candidates.end(), it->second.begin(), it->second.end());
+        }
+      std::sort(candidates.begin(), candidates.end());
+      for (int i : candidates) {
+        const SE2 d = x_true[static_cast<std::size_t>(i)].between(x_true[static_cast<std::size_t>(j)]);
+        if (d.translation().norm() < o.loop_radius && std::abs(d.theta()) < 0.5) scan_edge(i, j);
+      }
     }
+  }
   update_calibrated_measurements(g);
   if (truth) {
     const std::string s = "offset[" + std::to_string(offset_id) + "].", k = "odometry[" + std::to_string(odometry_id) + "].";
