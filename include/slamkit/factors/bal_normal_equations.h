@@ -72,23 +72,28 @@ class BalNormalEquations {
  private:
   template <bool kJacobians>
   double point_pass(const BalState& x, std::vector<double>* chunk_cost);
-  void rotations(const BalState& x) const;
+  void camera_frames(const BalState& x) const;
+  // An observation in point order (the point pass reads these sequentially).
+  struct PointObs {
+    std::ptrdiff_t w_off;  // offset of W_ij in H's values
+    int camera;
+    int slot;              // its position in camera order (ft_, r_cam_)
+    double z[2];
+  };
 
   const BalProblem& p_;
   std::shared_ptr<const RobustKernel> kernel_;
   const ThreadPool& pool_;
   int np_ = 0, nc_ = 0;
-  std::vector<int> pt_ptr_, pt_obs_;    // observations of point j in camera order
-  std::vector<int> cam_ptr_, cam_obs_;  // observations of camera i in point order
-  std::vector<std::ptrdiff_t> w_off_;   // per observation: offset of W_ij in H's values
-  std::vector<char> w_first_;           // the observation is the first of its (i, j) pair
+  std::vector<int> pt_ptr_;             // observations of point j: pt_obs_[pt_ptr_[j] .. pt_ptr_[j+1]), camera order
+  std::vector<PointObs> pt_obs_;
+  std::vector<int> cam_ptr_;            // observations of camera i: slots [cam_ptr_[i], cam_ptr_[i+1]), point order
   BlockSparseMatrix hessian_;
   Eigen::VectorXd g_, diag_, damping_;
   bool damped_ = false;
   // F_ijᵀ (9×2) and r_ij per observation, after the kernel, in camera order (slot cam_slot_[k]).
   std::vector<double> ft_, r_cam_;
-  std::vector<int> cam_slot_;
-  mutable std::vector<Eigen::Matrix3d> rot_;
+  mutable std::vector<BalCameraFrame> frames_;
   mutable std::vector<double> chunk_cost_;
 };
 
