@@ -46,6 +46,91 @@ double robust_correct(const RobustKernel& k, Eigen::Vector2d& r, Mat29* F, Mat23
   return rho[0];
 }
 
+// What the point pass reads and writes.
+struct PointPassData {
+  const Eigen::Vector3d* points;
+  const BalPointObservation* obs;
+  const int* pt_ptr;
+  const BalCameraFrame* frames;
+  double* ft;     // F_ij (2×9 row-major) per camera-order slot
+  double* r_cam;  // r_ij per camera-order slot
+  double* H;
+  double* g;
+  double* diag;
+  const BlockSparseMatrix* hessian;
+  const RobustKernel* kernel;
+};
+
+// W (9×3, column-major, leading dimension ld) = (or +=) Fᵀ E for F 2×9 and E 2×3 row-major.
+template <bool kAccumulate>
+inline void write_w(double* __restrict W, int ld, const double* __restrict F, const double* __restrict E) {
+  for (int col = 0; col < 3; ++col) {
+    double* __restrict w = W + static_cast<std::ptrdiff_t>(col) * ld;
+    const double e0 = E[col], e1 = E[3 + col];
+    for (int a = 0; a < 9; ++a) {
+      const double v = F[a] * e0 + F[9 + a] * e1;
+      w[a] = kAccumulate ? w[a] + v : v;
+    }
+  }
+}
+
+// Points [j_begin, j_end): per observation the fused kernel writes F_ij, r_ij at its
+// camera-order slot; per point C_j, g_j, W_ij go into H. Returns Σ ρ(‖r‖²) in point order.
+// Cloned for AVX2 (selected at run time): contraction to FMA is off (-std=c++17) and no
+// reduction is reordered, so both clones give the same bits.
+__attribute__((target_clones("avx2", "default"))) double linearize_points(const PointPassData& d, int j_begin,
+                                                                          int j_end) {
+  double sum = 0.0;
+  for (int j = j_begin; j < j_end; ++j) {
+    const double* X = d.points[j].data();
+    const BalPointObservation* ob = d.obs + d.pt_ptr[j];
+    const BalPointObservation* oe = d.obs + d.pt_ptr[j + 1];
+    // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j.
+    double C[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, gj[3] = {0.0, 0.0, 0.0};
+    const int ld = d.hessian->leading_dim(j);
+    int previous_camera = -1;
+    for (; ob != oe; ++ob) {
+      double* F = d.ft + static_cast<std::size_t>(ob->slot) * kFt;
+      double* r = d.r_cam + 2 * static_cast<std::size_t>(ob->slot);
+      double E[6];
+      bal_linearize(d.frames[ob->camera], X, ob->z, r, E, F);
+      if (d.kernel) {
+        Eigen::Vector2d rv(r[0], r[1]);
+        Eigen::Map<Eigen::Matrix<double, 2, 9, Eigen::RowMajor>> Fm(F);
+        Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Em(E);
+        Mat29 Fl = Fm;
+        Mat23 El = Em;
+        sum += robust_correct(*d.kernel, rv, &Fl, &El);
+        Fm = Fl, Em = El, r[0] = rv[0], r[1] = rv[1];
+      } else {
+        sum += r[0] * r[0] + r[1] * r[1];
+      }
+      const double* e0 = E;
+      const double* e1 = E + 3;
+      C[0] += e0[0] * e0[0] + e1[0] * e1[0];
+      C[1] += e0[0] * e0[1] + e1[0] * e1[1];
+      C[2] += e0[0] * e0[2] + e1[0] * e1[2];
+      C[3] += e0[1] * e0[1] + e1[1] * e1[1];
+      C[4] += e0[1] * e0[2] + e1[1] * e1[2];
+      C[5] += e0[2] * e0[2] + e1[2] * e1[2];
+      gj[0] += e0[0] * r[0] + e1[0] * r[1];
+      gj[1] += e0[1] * r[0] + e1[1] * r[1];
+      gj[2] += e0[2] * r[0] + e1[2] * r[1];
+      // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
+      if (ob->camera != previous_camera) write_w<false>(d.H + ob->w_off, ld, F, E);
+      else write_w<true>(d.H + ob->w_off, ld, F, E);
+      previous_camera = ob->camera;
+    }
+    double* Cj = d.H + d.hessian->block_offset(j, j);
+    Cj[0] = C[0], Cj[1] = C[1], Cj[2] = C[2];
+    Cj[ld] = C[1], Cj[ld + 1] = C[3], Cj[ld + 2] = C[4];
+    Cj[2 * ld] = C[2], Cj[2 * ld + 1] = C[4], Cj[2 * ld + 2] = C[5];
+    d.g[3 * j] = gj[0], d.g[3 * j + 1] = gj[1], d.g[3 * j + 2] = gj[2];
+    d.diag[3 * j] = C[0], d.diag[3 * j + 1] = C[3], d.diag[3 * j + 2] = C[5];
+  }
+  return sum;
+}
+
 }  // namespace
 
 BalState make_bal_state(const BalProblem& p) {
@@ -140,13 +225,16 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
       [&](std::size_t cb, std::size_t ce) {
         for (std::size_t c = cb; c < ce; ++c) {
           double sum = 0.0;
-          const int j_end = std::min<int>(np_, static_cast<int>(c + 1) * kChunk);
-          for (int j = static_cast<int>(c) * kChunk; j < j_end; ++j) {
-            const double* X = x.points[j].data();
-            const PointObs* ob = pt_obs_.data() + pt_ptr_[j];
-            const PointObs* oe = pt_obs_.data() + pt_ptr_[j + 1];
-            if (!kJacobians) {
-              for (; ob != oe; ++ob) {
+          const int j_begin = static_cast<int>(c) * kChunk;
+          const int j_end = std::min<int>(np_, j_begin + kChunk);
+          if (kJacobians) {
+            const PointPassData d{x.points.data(), pt_obs_.data(), pt_ptr_.data(), frames_.data(),
+                                  ft_.data(), r_cam_.data(), H, g_.data(), diag_.data(), &hessian_, kernel};
+            sum = linearize_points(d, j_begin, j_end);
+          } else {
+            for (int j = j_begin; j < j_end; ++j) {
+              const double* X = x.points[j].data();
+              for (const PointObs* ob = pt_obs_.data() + pt_ptr_[j]; ob != pt_obs_.data() + pt_ptr_[j + 1]; ++ob) {
                 double r[2];
                 bal_residual(frames_[ob->camera], X, ob->z, r);
                 const double s2 = r[0] * r[0] + r[1] * r[1];
@@ -158,60 +246,6 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
                   sum += s2;
                 }
               }
-              continue;
-            }
-            // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j.
-            double C[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, gj[3] = {0.0, 0.0, 0.0};
-            const int ld = hessian_.leading_dim(j);
-            int previous_camera = -1;
-            for (; ob != oe; ++ob) {
-              double* F = ft_.data() + static_cast<std::size_t>(ob->slot) * kFt;  // F_ij row-major = F_ijᵀ col-major
-              double* r = r_cam_.data() + 2 * static_cast<std::size_t>(ob->slot);
-              double E[6];
-              bal_linearize(frames_[ob->camera], X, ob->z, r, E, F);
-              if (kernel) {
-                Eigen::Vector2d rv(r[0], r[1]);
-                Eigen::Map<Eigen::Matrix<double, 2, 9, Eigen::RowMajor>> Fm(F);
-                Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Em(E);
-                Mat29 Fl = Fm;
-                Mat23 El = Em;
-                sum += robust_correct(*kernel, rv, &Fl, &El);
-                Fm = Fl, Em = El, r[0] = rv[0], r[1] = rv[1];
-              } else {
-                sum += r[0] * r[0] + r[1] * r[1];
-              }
-              const double* e0 = E;
-              const double* e1 = E + 3;
-              C[0] += e0[0] * e0[0] + e1[0] * e1[0];
-              C[1] += e0[0] * e0[1] + e1[0] * e1[1];
-              C[2] += e0[0] * e0[2] + e1[0] * e1[2];
-              C[3] += e0[1] * e0[1] + e1[1] * e1[1];
-              C[4] += e0[1] * e0[2] + e1[1] * e1[2];
-              C[5] += e0[2] * e0[2] + e1[2] * e1[2];
-              gj[0] += e0[0] * r[0] + e1[0] * r[1];
-              gj[1] += e0[1] * r[0] + e1[1] * r[1];
-              gj[2] += e0[2] * r[0] + e1[2] * r[1];
-              // W_ij = F_ijᵀ E_ij (9×3, column-major with the point column's leading dimension);
-              // a repeated (camera, point) pair is adjacent in camera order and shares its block.
-              double* W = H + ob->w_off;
-              const double* f0 = F;
-              const double* f1 = F + 9;
-              if (ob->camera != previous_camera) {
-                for (int col = 0; col < 3; ++col)
-                  for (int a = 0; a < 9; ++a) W[a + col * ld] = f0[a] * e0[col] + f1[a] * e1[col];
-              } else {
-                for (int col = 0; col < 3; ++col)
-                  for (int a = 0; a < 9; ++a) W[a + col * ld] += f0[a] * e0[col] + f1[a] * e1[col];
-              }
-              previous_camera = ob->camera;
-            }
-            if (kJacobians) {
-              double* Cj = H + hessian_.block_offset(j, j);
-              Cj[0] = C[0], Cj[1] = C[1], Cj[2] = C[2];
-              Cj[ld] = C[1], Cj[ld + 1] = C[3], Cj[ld + 2] = C[4];
-              Cj[2 * ld] = C[2], Cj[2 * ld + 1] = C[4], Cj[2 * ld + 2] = C[5];
-              g_[3 * j] = gj[0], g_[3 * j + 1] = gj[1], g_[3 * j + 2] = gj[2];
-              diag_[3 * j] = C[0], diag_[3 * j + 1] = C[3], diag_[3 * j + 2] = C[5];
             }
           }
           (*chunk_cost)[c] = sum;

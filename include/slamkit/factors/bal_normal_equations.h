@@ -38,6 +38,14 @@ struct BalState {
 BalState make_bal_state(const BalProblem& p);
 void copy_bal_state(const BalState& x, BalProblem& p);
 
+/// An observation as the point pass reads it (in point order, then camera order).
+struct BalPointObservation {
+  std::ptrdiff_t w_off;  // offset of W_ij in H's values
+  int camera;
+  int slot;              // its position in camera order (the F_ij, r_ij buffers)
+  double z[2];
+};
+
 class BalNormalEquations {
  public:
   /// kernel may be null (squared loss). The problem and the pool must outlive this object.
@@ -73,13 +81,7 @@ class BalNormalEquations {
   template <bool kJacobians>
   double point_pass(const BalState& x, std::vector<double>* chunk_cost);
   void camera_frames(const BalState& x) const;
-  // An observation in point order (the point pass reads these sequentially).
-  struct PointObs {
-    std::ptrdiff_t w_off;  // offset of W_ij in H's values
-    int camera;
-    int slot;              // its position in camera order (ft_, r_cam_)
-    double z[2];
-  };
+  using PointObs = BalPointObservation;
 
   const BalProblem& p_;
   std::shared_ptr<const RobustKernel> kernel_;
