@@ -102,7 +102,9 @@ class BalNormalEquations {
 /// Levenberg-Marquardt on a BAL problem with BalNormalEquations and SchurComplementSolver
 /// (points eliminated): the Optimizer's LM (Nielsen's λ update, D = clamped diag(H), the same
 /// tolerances, trace, callback and Summary) without its generic factor-graph machinery.
-/// Candidates are evaluated without Jacobians; H is rebuilt only at accepted points.
+/// After an accepted step the candidate is linearized at once (its cost with it; accepted, that is
+/// the next iteration's H; rejected, x is linearized again); after a rejection candidates are
+/// evaluated without Jacobians. H, g at every accepted point are the same bits either way.
 /// options.algorithm must be kLevenbergMarquardt. x is updated in place.
 Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& x, const OptimizerOptions& options,
                                          std::shared_ptr<const RobustKernel> kernel = nullptr);
