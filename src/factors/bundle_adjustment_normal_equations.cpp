@@ -46,6 +46,91 @@ double robust_correct(const RobustKernel& k, Eigen::Vector2d& r, Mat29* F, Mat23
   return rho[0];
 }
 
+// What the point pass reads and writes.
+struct PointPassData {
+  const Eigen::Vector3d* points;
+  const BalPointObservation* obs;
+  const int* pt_ptr;
+  const BalCameraFrame* frames;
+  double* ft;     // F_ij (2×9 row-major) per camera-order slot
+  double* r_cam;  // r_ij per camera-order slot
+  double* H;
+  double* g;
+  double* diag;
+  const BlockSparseMatrix* hessian;
+  const RobustKernel* kernel;
+};
+
+// W (9×3, column-major, leading dimension ld) = (or +=) Fᵀ E for F 2×9 and E 2×3 row-major.
+template <bool kAccumulate>
+inline void write_w(double* __restrict W, int ld, const double* __restrict F, const double* __restrict E) {
+  for (int col = 0; col < 3; ++col) {
+    double* __restrict w = W + static_cast<std::ptrdiff_t>(col) * ld;
+    const double e0 = E[col], e1 = E[3 + col];
+    for (int a = 0; a < 9; ++a) {
+      const double v = F[a] * e0 + F[9 + a] * e1;
+      w[a] = kAccumulate ? w[a] + v : v;
+    }
+  }
+}
+
+// Points [j_begin, j_end): per observation the fused kernel writes F_ij, r_ij at its
+// camera-order slot; per point C_j, g_j, W_ij go into H. Returns Σ ρ(‖r‖²) in point order.
+// Cloned for AVX2 (selected at run time): contraction to FMA is off (-std=c++17) and no
+// reduction is reordered, so both clones give the same bits.
+__attribute__((target_clones("avx2", "default"))) double linearize_points(const PointPassData& d, int j_begin,
+                                                                          int j_end) {
+  double sum = 0.0;
+  for (int j = j_begin; j < j_end; ++j) {
+    const double* X = d.points[j].data();
+    const BalPointObservation* ob = d.obs + d.pt_ptr[j];
+    const BalPointObservation* oe = d.obs + d.pt_ptr[j + 1];
+    // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j.
+    double C[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, gj[3] = {0.0, 0.0, 0.0};
+    const int ld = d.hessian->leading_dim(j);
+    int previous_camera = -1;
+    for (; ob != oe; ++ob) {
+      double* F = d.ft + static_cast<std::size_t>(ob->slot) * kFt;
+      double* r = d.r_cam + 2 * static_cast<std::size_t>(ob->slot);
+      double E[6];
+      bal_linearize(d.frames[ob->camera], X, ob->z, r, E, F);
+      if (d.kernel) {
+        Eigen::Vector2d rv(r[0], r[1]);
+        Eigen::Map<Eigen::Matrix<double, 2, 9, Eigen::RowMajor>> Fm(F);
+        Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Em(E);
+        Mat29 Fl = Fm;
+        Mat23 El = Em;
+        sum += robust_correct(*d.kernel, rv, &Fl, &El);
+        Fm = Fl, Em = El, r[0] = rv[0], r[1] = rv[1];
+      } else {
+        sum += r[0] * r[0] + r[1] * r[1];
+      }
+      const double* e0 = E;
+      const double* e1 = E + 3;
+      C[0] += e0[0] * e0[0] + e1[0] * e1[0];
+      C[1] += e0[0] * e0[1] + e1[0] * e1[1];
+      C[2] += e0[0] * e0[2] + e1[0] * e1[2];
+      C[3] += e0[1] * e0[1] + e1[1] * e1[1];
+      C[4] += e0[1] * e0[2] + e1[1] * e1[2];
+      C[5] += e0[2] * e0[2] + e1[2] * e1[2];
+      gj[0] += e0[0] * r[0] + e1[0] * r[1];
+      gj[1] += e0[1] * r[0] + e1[1] * r[1];
+      gj[2] += e0[2] * r[0] + e1[2] * r[1];
+      // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
+      if (ob->camera != previous_camera) write_w<false>(d.H + ob->w_off, ld, F, E);
+      else write_w<true>(d.H + ob->w_off, ld, F, E);
+      previous_camera = ob->camera;
+    }
+    double* Cj = d.H + d.hessian->block_offset(j, j);
+    Cj[0] = C[0], Cj[1] = C[1], Cj[2] = C[2];
+    Cj[ld] = C[1], Cj[ld + 1] = C[3], Cj[ld + 2] = C[4];
+    Cj[2 * ld] = C[2], Cj[2 * ld + 1] = C[4], Cj[2 * ld + 2] = C[5];
+    d.g[3 * j] = gj[0], d.g[3 * j + 1] = gj[1], d.g[3 * j + 2] = gj[2];
+    d.diag[3 * j] = C[0], d.diag[3 * j + 1] = C[3], d.diag[3 * j + 2] = C[5];
+  }
+  return sum;
+}
+
 }  // namespace
 
 BalState make_bal_state(const BalProblem& p) {
@@ -75,17 +160,16 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
   }
   std::partial_sum(pt_ptr_.begin(), pt_ptr_.end(), pt_ptr_.begin());
   std::partial_sum(cam_ptr_.begin(), cam_ptr_.end(), cam_ptr_.begin());
-  cam_obs_.resize(no), pt_obs_.resize(no);
+  std::vector<int> cam_obs(no), slot_of(no);
   {
     std::vector<int> fill(cam_ptr_.begin(), cam_ptr_.end() - 1);
     std::vector<int> by_point(no);
     std::iota(by_point.begin(), by_point.end(), 0);
     std::stable_sort(by_point.begin(), by_point.end(),
                      [&](int a, int b) { return p.observations[a].point < p.observations[b].point; });
-    for (int k : by_point) cam_obs_[fill[p.observations[k].camera]++] = k;  // camera, then point order
-    std::vector<int> pfill(pt_ptr_.begin(), pt_ptr_.end() - 1);
-    for (int k : cam_obs_) pt_obs_[pfill[p.observations[k].point]++] = k;  // point, then camera order
+    for (int k : by_point) cam_obs[fill[p.observations[k].camera]++] = k;  // camera, then point order
   }
+  for (int q = 0; q < no; ++q) slot_of[cam_obs[q]] = q;
   // H's pattern: point j is block j, camera i block np + i; one block per observed pair.
   std::vector<int> dims(static_cast<std::size_t>(np_) + nc_, 9);
   std::fill(dims.begin(), dims.begin() + np_, 3);
@@ -93,18 +177,23 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
   pattern.reserve(no);
   for (const BalObservation& o : p.observations) pattern.emplace_back(np_ + o.camera, o.point);
   hessian_ = BlockSparseMatrix(std::move(dims), std::move(pattern));
-  w_off_.resize(no), w_first_.assign(no, 1);
-  for (int k = 0; k < no; ++k) w_off_[k] = hessian_.block_offset(np_ + p.observations[k].camera, p.observations[k].point);
-  for (int i = 0; i < nc_; ++i)
-    for (int q = cam_ptr_[i] + 1; q < cam_ptr_[i + 1]; ++q)
-      if (p.observations[cam_obs_[q]].point == p.observations[cam_obs_[q - 1]].point) w_first_[cam_obs_[q]] = 0;
+  // Observations in point order, then camera order (a repeated pair is adjacent).
+  pt_obs_.resize(no);
+  {
+    std::vector<int> pfill(pt_ptr_.begin(), pt_ptr_.end() - 1);
+    for (int k : cam_obs) {
+      const BalObservation& o = p.observations[k];
+      PointObs& po = pt_obs_[pfill[o.point]++];
+      po.w_off = hessian_.block_offset(np_ + o.camera, o.point);
+      po.camera = o.camera, po.slot = slot_of[k];
+      po.z[0] = o.pixel.x(), po.z[1] = o.pixel.y();
+    }
+  }
   g_.setZero(hessian_.rows());
   diag_.setZero(hessian_.rows());
   ft_.assign(static_cast<std::size_t>(no) * kFt, 0.0);
   r_cam_.assign(2 * static_cast<std::size_t>(no), 0.0);
-  cam_slot_.resize(no);
-  for (int q = 0; q < no; ++q) cam_slot_[cam_obs_[q]] = q;
-  rot_.resize(nc_);
+  frames_.resize(nc_);
   chunk_cost_.assign((np_ + kChunk - 1) / kChunk, 0.0);
 }
 
@@ -114,60 +203,49 @@ std::vector<char> BalNormalEquations::eliminate_flags() const {
   return e;
 }
 
-void BalNormalEquations::rotations(const BalState& x) const {
+void BalNormalEquations::camera_frames(const BalState& x) const {
   pool_.parallel_for(
       nc_, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) rot_[i] = x.cameras[i].rotation.matrix();
+        for (std::size_t i = b; i < e; ++i) frames_[i] = BalCameraFrame::from(x.cameras[i]);
       },
       64);
 }
 
 // Per point j (chunks of kChunk points): residuals of its observations; with Jacobians also
-// C_j, g_j, W_ij (into H, the point's own column) and F_ijᵀ, r_ij (into ft_, r_cam_).
+// C_j, g_j, W_ij = F_ijᵀE_ij (into H, the point's own column) and F_ij, r_ij (written by the
+// kernel straight into ft_, r_cam_ at the observation's camera-order slot).
 template <bool kJacobians>
 double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* chunk_cost) {
-  rotations(x);
+  camera_frames(x);
   const int nchunks = static_cast<int>(chunk_cost->size());
   double* H = hessian_.values().data();
+  const RobustKernel* kernel = kernel_.get();
   pool_.parallel_for(
       nchunks,
       [&](std::size_t cb, std::size_t ce) {
-        Mat29 F;
-        Mat23 E;
         for (std::size_t c = cb; c < ce; ++c) {
           double sum = 0.0;
-          const int j_end = std::min<int>(np_, static_cast<int>(c + 1) * kChunk);
-          for (int j = static_cast<int>(c) * kChunk; j < j_end; ++j) {
-            const Eigen::Vector3d& X = x.points[j];
-            Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-            Eigen::Vector3d gj = Eigen::Vector3d::Zero();
-            const int ld = kJacobians ? hessian_.leading_dim(j) : 0;
-            for (int q = pt_ptr_[j]; q < pt_ptr_[j + 1]; ++q) {
-              const int k = pt_obs_[q];
-              const BalObservation& o = p_.observations[k];
-              const BalCamera& cam = x.cameras[o.camera];
-              if (!kJacobians) {
-                Eigen::Vector2d r = bal_reprojection(rot_[o.camera], cam, X, o.pixel, nullptr, nullptr);
-                sum += kernel_ ? robust_correct(*kernel_, r, nullptr, nullptr) : r.squaredNorm();
-                continue;
+          const int j_begin = static_cast<int>(c) * kChunk;
+          const int j_end = std::min<int>(np_, j_begin + kChunk);
+          if (kJacobians) {
+            const PointPassData d{x.points.data(), pt_obs_.data(), pt_ptr_.data(), frames_.data(),
+                                  ft_.data(), r_cam_.data(), H, g_.data(), diag_.data(), &hessian_, kernel};
+            sum = linearize_points(d, j_begin, j_end);
+          } else {
+            for (int j = j_begin; j < j_end; ++j) {
+              const double* X = x.points[j].data();
+              for (const PointObs* ob = pt_obs_.data() + pt_ptr_[j]; ob != pt_obs_.data() + pt_ptr_[j + 1]; ++ob) {
+                double r[2];
+                bal_residual(frames_[ob->camera], X, ob->z, r);
+                const double s2 = r[0] * r[0] + r[1] * r[1];
+                if (kernel) {
+                  double rho[3];
+                  kernel->evaluate(s2, rho);
+                  sum += rho[0];
+                } else {
+                  sum += s2;
+                }
               }
-              Eigen::Vector2d r = bal_reprojection(rot_[o.camera], cam, X, o.pixel, &F, &E);
-              sum += kernel_ ? robust_correct(*kernel_, r, &F, &E) : r.squaredNorm();
-              C.noalias() += E.transpose().lazyProduct(E);
-              gj.noalias() += E.transpose() * r;
-              MapS<9, 3> W(H + w_off_[k], 9, 3, Eigen::OuterStride<>(ld));
-              if (w_first_[k]) W.noalias() = F.transpose().lazyProduct(E);
-              else W.noalias() += F.transpose().lazyProduct(E);
-              // At the observation's slot in camera order: camera i's F_ijᵀ form one 9 × 2m matrix.
-              const std::size_t slot = static_cast<std::size_t>(cam_slot_[k]);
-              Eigen::Map<Eigen::Matrix<double, 9, 2>> Ft(ft_.data() + slot * kFt);
-              Ft = F.transpose();
-              r_cam_[2 * slot] = r[0], r_cam_[2 * slot + 1] = r[1];
-            }
-            if (kJacobians) {
-              MapS<3, 3>(H + hessian_.block_offset(j, j), 3, 3, Eigen::OuterStride<>(ld)) = C;
-              g_.segment<3>(3 * j) = gj;
-              diag_.segment<3>(3 * j) = C.diagonal();
             }
           }
           (*chunk_cost)[c] = sum;
@@ -180,7 +258,7 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
 }
 
 double BalNormalEquations::cost(const BalState& x) const {
-  // point_pass<false> writes nothing but rot_ and the chunk sums (both mutable scratch).
+  // point_pass<false> writes nothing but frames_ and the chunk sums (both mutable scratch).
   return const_cast<BalNormalEquations*>(this)->point_pass<false>(x, &chunk_cost_);
 }
 
@@ -254,11 +332,13 @@ double BalNormalEquations::quadratic(const Eigen::VectorXd& d) const {
             const int ld = hessian_.leading_dim(j);
             const Eigen::Vector3d dj = d.segment<3>(3 * j);
             sum += dj.dot(CMapS<3, 3>(H + hessian_.block_offset(j, j), 3, 3, Eigen::OuterStride<>(ld)) * dj);
+            int previous_camera = -1;
             for (int q = pt_ptr_[j]; q < pt_ptr_[j + 1]; ++q) {
-              const int k = pt_obs_[q];
-              if (!w_first_[k]) continue;
-              const int s = hessian_.block_start(np_ + p_.observations[k].camera);
-              sum += 2.0 * d.segment<9>(s).dot(CMapS<9, 3>(H + w_off_[k], 9, 3, Eigen::OuterStride<>(ld)) * dj);
+              const PointObs& o = pt_obs_[q];
+              if (o.camera == previous_camera) continue;  // a repeated pair shares its W block
+              previous_camera = o.camera;
+              const int s = hessian_.block_start(np_ + o.camera);
+              sum += 2.0 * d.segment<9>(s).dot(CMapS<9, 3>(H + o.w_off, 9, 3, Eigen::OuterStride<>(ld)) * dj);
             }
           }
           part[c] = sum;

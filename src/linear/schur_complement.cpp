@@ -547,6 +547,7 @@ void SchurComplementSolver::solve_factored_rhs(double* x) {
   Impl& m = *impl_;
   if (!m.rhs_formed) throw std::logic_error("SchurComplementSolver::solve_factored_rhs without a factorize(A, b)");
   last_pcg_iterations_ = 0;
+  last_residual_dot_solution_ = 0.0;
   m.dispatch([&](auto KD, auto ED) {
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
     if (method_ == SchurMethod::kDense) {
@@ -587,6 +588,7 @@ void SchurComplementSolver::solve_factored_rhs(double* x) {
         }
       }
       total_pcg_iterations_ += last_pcg_iterations_;
+      last_residual_dot_solution_ = m.xk.dot(m.pr);  // pr = rhs − S x_k (CG's recurrence)
     }
     // Back-substitution x_e = C_e⁻¹ (b_e − Σ_k E_keᵀ x_k), one pass in the E blocks' storage order.
     m.template eliminated_solve<kd, edim>(pool_, m.be.data(), m.xk.data(), m.ye.data());

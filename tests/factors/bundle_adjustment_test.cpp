@@ -30,6 +30,50 @@ TEST(BalReprojectionFactor, JacobiansMatchNumeric) {
   EXPECT_EQ(r.factors_checked, ba.graph.size());
 }
 
+// The fused kernel of the direct LM path (bal_linearize): its residual is bal_residual's and the
+// factor's, its E (2×3) and F (2×9, right perturbation of R) match central differences of the
+// residual in the point and in the camera's tangent space.
+TEST(BalReprojectionFactor, FusedKernelJacobiansMatchNumeric) {
+  BalProblem p = small_problem(4, 40);
+  for (std::size_t i = 0; i < p.cameras.size(); ++i) p.cameras[i][7] = 0.3 - 0.1 * i, p.cameras[i][8] = -0.05;
+  const double h = 1e-6;
+  double worst = 0.0;
+  for (const BalObservation& o : p.observations) {
+    const BalCamera cam = BalCamera::from_bal(p.cameras[o.camera]);
+    const Eigen::Vector3d X = p.points[o.point];
+    const BalCameraFrame fr = BalCameraFrame::from(cam);
+    double r[2], E[6], F[18], r_only[2];
+    bal_linearize(fr, X.data(), o.pixel.data(), r, E, F);
+    bal_residual(fr, X.data(), o.pixel.data(), r_only);
+    const Eigen::Vector2d r_factor = bal_reprojection(cam.rotation.matrix(), cam, X, o.pixel, nullptr, nullptr);
+    EXPECT_EQ(r[0], r_only[0]);
+    EXPECT_EQ(r[1], r_only[1]);
+    EXPECT_NEAR(r[0], r_factor[0], 1e-9 * (1.0 + std::abs(r_factor[0])));
+    EXPECT_NEAR(r[1], r_factor[1], 1e-9 * (1.0 + std::abs(r_factor[1])));
+    auto residual = [&](const BalCamera& c, const Eigen::Vector3d& Y) {
+      double out[2];
+      bal_residual(BalCameraFrame::from(c), Y.data(), o.pixel.data(), out);
+      return Eigen::Vector2d(out[0], out[1]);
+    };
+    double scale = 1.0;
+    for (double v : E) scale = std::max(scale, std::abs(v));
+    for (double v : F) scale = std::max(scale, std::abs(v));
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3d d = Eigen::Vector3d::Zero();
+      d[a] = h;
+      const Eigen::Vector2d num = (residual(cam, X + d) - residual(cam, X - d)) / (2 * h);
+      for (int row = 0; row < 2; ++row) worst = std::max(worst, std::abs(num[row] - E[3 * row + a]) / scale);
+    }
+    for (int a = 0; a < 9; ++a) {
+      BalCamera::Tangent d = BalCamera::Tangent::Zero();
+      d[a] = h;
+      const Eigen::Vector2d num = (residual(cam.plus(d), X) - residual(cam.plus(-d), X)) / (2 * h);
+      for (int row = 0; row < 2; ++row) worst = std::max(worst, std::abs(num[row] - F[9 * row + a]) / scale);
+    }
+  }
+  EXPECT_LT(worst, 1e-6);
+}
+
 TEST(BalReprojectionFactor, ResidualIsTheBalModel) {
   const BalProblem p = small_problem(4, 40);
   BundleAdjustmentProblem ba = build_bundle_adjustment_problem(p);

@@ -153,6 +153,11 @@ TEST(SchurComplement, PcgQuadraticModelTestStopsEarlyWithAGoodStep) {
     x[k].resize(b.size());
     solver.solve_factored_rhs(x[k].data());
     its[k] = solver.last_pcg_iterations();
+    // xᵀHx = bᵀx − x_kᵀ(rhs − S x_k): the LM loop's quadratic model without a product with H.
+    const double xHx = x[k].dot(s.dense * x[k]);
+    EXPECT_NEAR(b.dot(x[k]) - solver.last_residual_dot_solution(), xHx, 1e-9 * xHx);
+    // CG from x₀ = 0 keeps r ⟂ x_k (Galerkin), truncated or not: the correction is rounding only.
+    EXPECT_LT(std::abs(solver.last_residual_dot_solution()), 1e-9 * xHx);
   }
   EXPECT_LT(its[1], its[0]);
   EXPECT_LT((x[0] - ref).norm(), 1e-7 * ref.norm());

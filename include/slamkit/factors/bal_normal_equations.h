@@ -38,6 +38,14 @@ struct BalState {
 BalState make_bal_state(const BalProblem& p);
 void copy_bal_state(const BalState& x, BalProblem& p);
 
+/// An observation as the point pass reads it (in point order, then camera order).
+struct BalPointObservation {
+  std::ptrdiff_t w_off;  // offset of W_ij in H's values
+  int camera;
+  int slot;              // its position in camera order (the F_ij, r_ij buffers)
+  double z[2];
+};
+
 class BalNormalEquations {
  public:
   /// kernel may be null (squared loss). The problem and the pool must outlive this object.
@@ -72,30 +80,31 @@ class BalNormalEquations {
  private:
   template <bool kJacobians>
   double point_pass(const BalState& x, std::vector<double>* chunk_cost);
-  void rotations(const BalState& x) const;
+  void camera_frames(const BalState& x) const;
+  using PointObs = BalPointObservation;
 
   const BalProblem& p_;
   std::shared_ptr<const RobustKernel> kernel_;
   const ThreadPool& pool_;
   int np_ = 0, nc_ = 0;
-  std::vector<int> pt_ptr_, pt_obs_;    // observations of point j in camera order
-  std::vector<int> cam_ptr_, cam_obs_;  // observations of camera i in point order
-  std::vector<std::ptrdiff_t> w_off_;   // per observation: offset of W_ij in H's values
-  std::vector<char> w_first_;           // the observation is the first of its (i, j) pair
+  std::vector<int> pt_ptr_;             // observations of point j: pt_obs_[pt_ptr_[j] .. pt_ptr_[j+1]), camera order
+  std::vector<PointObs> pt_obs_;
+  std::vector<int> cam_ptr_;            // observations of camera i: slots [cam_ptr_[i], cam_ptr_[i+1]), point order
   BlockSparseMatrix hessian_;
   Eigen::VectorXd g_, diag_, damping_;
   bool damped_ = false;
   // F_ijᵀ (9×2) and r_ij per observation, after the kernel, in camera order (slot cam_slot_[k]).
   std::vector<double> ft_, r_cam_;
-  std::vector<int> cam_slot_;
-  mutable std::vector<Eigen::Matrix3d> rot_;
+  mutable std::vector<BalCameraFrame> frames_;
   mutable std::vector<double> chunk_cost_;
 };
 
 /// Levenberg-Marquardt on a BAL problem with BalNormalEquations and SchurComplementSolver
 /// (points eliminated): the Optimizer's LM (Nielsen's λ update, D = clamped diag(H), the same
 /// tolerances, trace, callback and Summary) without its generic factor-graph machinery.
-/// Candidates are evaluated without Jacobians; H is rebuilt only at accepted points.
+/// After an accepted step the candidate is linearized at once (its cost with it; accepted, that is
+/// the next iteration's H; rejected, x is linearized again); after a rejection candidates are
+/// evaluated without Jacobians. H, g at every accepted point are the same bits either way.
 /// options.algorithm must be kLevenbergMarquardt. x is updated in place.
 Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& x, const OptimizerOptions& options,
                                          std::shared_ptr<const RobustKernel> kernel = nullptr);

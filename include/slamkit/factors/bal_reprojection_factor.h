@@ -92,6 +92,69 @@ inline Eigen::Vector2d bal_reprojection(const Eigen::Matrix3d& R, const BalCamer
   return r;
 }
 
+/// One camera as the fused kernel reads it, formed once per camera per pass: R row-major, t, f, k1, k2.
+struct BalCameraFrame {
+  double R[9], t[3], f, k1, k2;
+  static BalCameraFrame from(const BalCamera& c) {
+    BalCameraFrame fr;
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(fr.R) = c.rotation.matrix();
+    fr.t[0] = c.translation.x(), fr.t[1] = c.translation.y(), fr.t[2] = c.translation.z();
+    fr.f = c.f, fr.k1 = c.k1, fr.k2 = c.k2;
+    return fr;
+  }
+};
+
+/// The BAL residual only: r = u − z (the cost pass).
+inline void bal_residual(const BalCameraFrame& c, const double* X, const double* z, double* r) {
+  const double P0 = c.R[0] * X[0] + c.R[1] * X[1] + c.R[2] * X[2] + c.t[0];
+  const double P1 = c.R[3] * X[0] + c.R[4] * X[1] + c.R[5] * X[2] + c.t[1];
+  const double P2 = c.R[6] * X[0] + c.R[7] * X[1] + c.R[8] * X[2] + c.t[2];
+  const double iz = 1.0 / P2;
+  const double p0 = -P0 * iz, p1 = -P1 * iz;
+  const double n = p0 * p0 + p1 * p1;
+  const double fd = c.f * (1.0 + n * (c.k1 + c.k2 * n));
+  r[0] = fd * p0 - z[0], r[1] = fd * p1 - z[1];
+}
+
+/// Fused residual and Jacobians, the same math as bal_reprojection with the shared
+/// sub-expressions written out (no temporaries beyond scalars, no allocation):
+///   A = ∂u/∂p = f d I + s p pᵀ (s = 2 f (k1 + 2 k2 n)),  T = ∂u/∂P = A ∂p/∂P = −(1/P_z) [A | A p],
+///   E = ∂u/∂X = T R,  rotation columns of F: row k = X × E_k (= −E_k [X]×),  F's t columns = T,
+///   F's intrinsic columns: d p, f n p, f n² p.
+/// Out: r (2), E (2×3 row-major), F (2×9 row-major, i.e. Fᵀ column-major 9×2).
+inline void bal_linearize(const BalCameraFrame& c, const double* X, const double* z, double* r, double* E, double* F) {
+  const double P0 = c.R[0] * X[0] + c.R[1] * X[1] + c.R[2] * X[2] + c.t[0];
+  const double P1 = c.R[3] * X[0] + c.R[4] * X[1] + c.R[5] * X[2] + c.t[1];
+  const double P2 = c.R[6] * X[0] + c.R[7] * X[1] + c.R[8] * X[2] + c.t[2];
+  const double iz = 1.0 / P2;
+  const double p0 = -P0 * iz, p1 = -P1 * iz;
+  const double n = p0 * p0 + p1 * p1;
+  const double d = 1.0 + n * (c.k1 + c.k2 * n);
+  const double fd = c.f * d;
+  r[0] = fd * p0 - z[0], r[1] = fd * p1 - z[1];
+  const double s = 2.0 * c.f * (c.k1 + 2.0 * c.k2 * n);
+  const double a = fd + s * p0 * p0, b = s * p0 * p1, cc = fd + s * p1 * p1;
+  const double m = -iz;
+  // T rows (∂u/∂P).
+  const double T0 = m * a, T1 = m * b, T2 = m * (a * p0 + b * p1);
+  const double U0 = m * b, U1 = m * cc, U2 = m * (b * p0 + cc * p1);
+  for (int k = 0; k < 3; ++k) {
+    E[k] = T0 * c.R[k] + T1 * c.R[3 + k] + T2 * c.R[6 + k];
+    E[3 + k] = U0 * c.R[k] + U1 * c.R[3 + k] + U2 * c.R[6 + k];
+  }
+  for (int row = 0; row < 2; ++row) {
+    const double* e = E + 3 * row;
+    double* Fr = F + 9 * row;
+    Fr[0] = X[1] * e[2] - X[2] * e[1];
+    Fr[1] = X[2] * e[0] - X[0] * e[2];
+    Fr[2] = X[0] * e[1] - X[1] * e[0];
+  }
+  F[3] = T0, F[4] = T1, F[5] = T2, F[12] = U0, F[13] = U1, F[14] = U2;
+  const double fn = c.f * n, fnn = fn * n;
+  F[6] = d * p0, F[7] = fn * p0, F[8] = fnn * p0;
+  F[15] = d * p1, F[16] = fn * p1, F[17] = fnn * p1;
+}
+
 class BalReprojectionFactor final : public FactorN<2, BalCamera, Eigen::Vector3d> {
  public:
   BalReprojectionFactor(Key camera, Key point, const Eigen::Vector2d& measured,

@@ -88,6 +88,11 @@ class SchurComplementSolver final : public SparseCholesky {
   /// PCG iterations of the last solve (0 for the direct methods) and in total.
   int last_pcg_iterations() const { return last_pcg_iterations_; }
   long total_pcg_iterations() const { return total_pcg_iterations_; }
+  /// x_kᵀ (rhs − S x_k) for the last solve's reduced solution x_k: 0 for the direct methods; for
+  /// PCG from x₀ = 0 also 0 up to rounding (CG keeps its residual orthogonal to its iterates,
+  /// truncated or not). With x = (x_e back-substituted, x_k), xᵀ H x = bᵀx − this, so a
+  /// quadratic model needs no product with H (the LM loop's predicted reduction).
+  double last_residual_dot_solution() const { return last_residual_dot_solution_; }
   /// Time spent forming S (or the preconditioner) and factorizing it, in the last factorize().
   double last_schur_time_s() const { return last_schur_time_s_; }
   double last_factor_time_s() const { return last_factor_time_s_; }
@@ -102,7 +107,7 @@ class SchurComplementSolver final : public SparseCholesky {
   CholeskyStats stats_;
   int last_pcg_iterations_ = 0;
   long total_pcg_iterations_ = 0;
-  double last_schur_time_s_ = 0.0, last_factor_time_s_ = 0.0;
+  double last_schur_time_s_ = 0.0, last_factor_time_s_ = 0.0, last_residual_dot_solution_ = 0.0;
 };
 
 }  // namespace slamkit
