@@ -104,16 +104,29 @@ struct BalCameraFrame {
   }
 };
 
-/// The BAL residual only: r = u − z (the cost pass).
-inline void bal_residual(const BalCameraFrame& c, const double* X, const double* z, double* r) {
+/// The projection both kernels share: P = R X + t, p = −P/P_z (iz = 1/P_z), n = |p|²,
+/// d = 1 + k1 n + k2 n² (the radial factor), fd = f d; u = fd p.
+struct BalProjection {
+  double iz, p0, p1, n, d, fd;
+};
+
+inline BalProjection bal_project(const BalCameraFrame& c, const double* X) {
   const double P0 = c.R[0] * X[0] + c.R[1] * X[1] + c.R[2] * X[2] + c.t[0];
   const double P1 = c.R[3] * X[0] + c.R[4] * X[1] + c.R[5] * X[2] + c.t[1];
   const double P2 = c.R[6] * X[0] + c.R[7] * X[1] + c.R[8] * X[2] + c.t[2];
-  const double iz = 1.0 / P2;
-  const double p0 = -P0 * iz, p1 = -P1 * iz;
-  const double n = p0 * p0 + p1 * p1;
-  const double fd = c.f * (1.0 + n * (c.k1 + c.k2 * n));
-  r[0] = fd * p0 - z[0], r[1] = fd * p1 - z[1];
+  BalProjection q;
+  q.iz = 1.0 / P2;
+  q.p0 = -P0 * q.iz, q.p1 = -P1 * q.iz;
+  q.n = q.p0 * q.p0 + q.p1 * q.p1;
+  q.d = 1.0 + q.n * (c.k1 + c.k2 * q.n);
+  q.fd = c.f * q.d;
+  return q;
+}
+
+/// The BAL residual only: r = u − z (the cost pass).
+inline void bal_residual(const BalCameraFrame& c, const double* X, const double* z, double* r) {
+  const BalProjection q = bal_project(c, X);
+  r[0] = q.fd * q.p0 - z[0], r[1] = q.fd * q.p1 - z[1];
 }
 
 /// Fused residual and Jacobians, the same math as bal_reprojection with the shared
@@ -123,14 +136,8 @@ inline void bal_residual(const BalCameraFrame& c, const double* X, const double*
 ///   F's intrinsic columns: d p, f n p, f n² p.
 /// Out: r (2), E (2×3 row-major), F (2×9 row-major, i.e. Fᵀ column-major 9×2).
 inline void bal_linearize(const BalCameraFrame& c, const double* X, const double* z, double* r, double* E, double* F) {
-  const double P0 = c.R[0] * X[0] + c.R[1] * X[1] + c.R[2] * X[2] + c.t[0];
-  const double P1 = c.R[3] * X[0] + c.R[4] * X[1] + c.R[5] * X[2] + c.t[1];
-  const double P2 = c.R[6] * X[0] + c.R[7] * X[1] + c.R[8] * X[2] + c.t[2];
-  const double iz = 1.0 / P2;
-  const double p0 = -P0 * iz, p1 = -P1 * iz;
-  const double n = p0 * p0 + p1 * p1;
-  const double d = 1.0 + n * (c.k1 + c.k2 * n);
-  const double fd = c.f * d;
+  const BalProjection q = bal_project(c, X);
+  const double iz = q.iz, p0 = q.p0, p1 = q.p1, n = q.n, d = q.d, fd = q.fd;
   r[0] = fd * p0 - z[0], r[1] = fd * p1 - z[1];
   const double s = 2.0 * c.f * (c.k1 + 2.0 * c.k2 * n);
   const double a = fd + s * p0 * p0, b = s * p0 * p1, cc = fd + s * p1 * p1;
