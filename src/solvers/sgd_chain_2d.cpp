@@ -1,29 +1,11 @@
 #include "sgd_chain_2d.h"
+#include "relaxer_math_2d.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace slamkit::detail {
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-// Angle into [−π, π) without trigonometry (the residuals are wrapped in every update).
-double wrap(double a) {
-  if (a >= -kPi && a < kPi) return a;
-  return a - 2 * kPi * std::floor((a + kPi) / (2 * kPi));
-}
-Eigen::Matrix2d rot2(double c, double s) {
-  Eigen::Matrix2d R;
-  R << c, -s, s, c;
-  return R;
-}
-// W = G Ω Gᵀ, G = blockdiag(R, 1): the information rotated into the global frame.
-Eigen::Matrix3d rotate_information(const Eigen::Matrix3d& info, double c, double s) {
-  Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
-  G.topLeftCorner<2, 2>() = rot2(c, s);
-  return G * info * G.transpose();
-}
-}  // namespace
 
 ChainSgd2D::ChainSgd2D(const PoseGraph& g, const RelaxerGraph& rg, std::vector<int> chain)
     : chain_(std::move(chain)), vertex_(rg.vertex), n_(static_cast<int>(chain_.size())) {
@@ -40,7 +22,7 @@ ChainSgd2D::ChainSgd2D(const PoseGraph& g, const RelaxerGraph& rg, std::vector<i
   for (int p = 0; p < n_; ++p) {
     const SE2& x = g.vertices()[vertex_[chain_[p]]].pose2;
     pose0_[p] = Eigen::Vector3d(x.x(), x.y(), x.theta());
-    if (p > 0) pose0_[p].z() = pose0_[p - 1].z() + wrap(x.theta() - pose0_[p - 1].z());
+    if (p > 0) pose0_[p].z() = pose0_[p - 1].z() + wrap_angle(x.theta() - pose0_[p - 1].z());
   }
   wsum_.assign(n_, Eigen::Vector3d::Zero());
   tree_.assign(n_ + 2, Node());
@@ -116,7 +98,7 @@ double ChainSgd2D::iterate(int iteration, const std::vector<int>& order) {
     const Eigen::Vector2d rz = rot2(ca, sa) * e.z.head<2>();  // R(θa) z_xy
     Eigen::Vector3d r;
     r.head<2>() = pa.head<2>() + rz - pb.head<2>();
-    r.z() = wrap(pa.z() + e.z.z() - pb.z());
+    r.z() = wrap_angle(pa.z() + e.z.z() - pb.z());
     const Eigen::Matrix3d W = rotate_information(e.info, ca * e.cz - sa * e.sz, sa * e.cz + ca * e.sz);
     const Eigen::Vector3d d = 2.0 * W * r;
     const int lo = std::min(e.pa, e.pb) + 1, hi = std::max(e.pa, e.pb);
@@ -151,7 +133,7 @@ double ChainSgd2D::iterate(int iteration, const std::vector<int>& order) {
 
 void ChainSgd2D::write_back(PoseGraph& g) const {
   for (int p = 0; p < n_; ++p)
-    g.vertex_at(vertex_[chain_[p]]).pose2 = SE2(pose0_[p].x(), pose0_[p].y(), wrap(pose0_[p].z()));
+    g.vertex_at(vertex_[chain_[p]]).pose2 = SE2(pose0_[p].x(), pose0_[p].y(), wrap_angle(pose0_[p].z()));
 }
 
 }  // namespace slamkit::detail

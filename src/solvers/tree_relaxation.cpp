@@ -1,4 +1,5 @@
 #include "tree_relaxation.h"
+#include "relaxer_math_2d.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,25 +7,6 @@
 #include <numeric>
 
 namespace slamkit::detail {
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-// Angle into [−π, π) without trigonometry (the residuals are wrapped in every update).
-double wrap(double a) {
-  if (a >= -kPi && a < kPi) return a;
-  return a - 2 * kPi * std::floor((a + kPi) / (2 * kPi));
-}
-Eigen::Matrix2d rot2(double c, double s) {
-  Eigen::Matrix2d R;
-  R << c, -s, s, c;
-  return R;
-}
-// W = G Ω Gᵀ, G = blockdiag(R, 1) with R = (c −s; s c): the information in the global frame.
-Eigen::Matrix3d rotate_information(const Eigen::Matrix3d& info, double c, double s) {
-  Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
-  G.topLeftCorner<2, 2>() = rot2(c, s);
-  return G * info * G.transpose();
-}
-}  // namespace
 
 RelaxerStop GradientPhaseSchedule::wrap(const RelaxerStop& stop) {
   RelaxerStop s = stop;
@@ -135,7 +117,7 @@ TreeRelaxation::TreeRelaxation(const PoseGraph& g, const RelaxerGraph& rg, std::
         inc_[k] = Eigen::Vector3d(x.x(), x.y(), x.theta());
       } else {
         const SE2& p = g.vertices()[vertex_[parent_[k]]].pose2;
-        inc_[k] = Eigen::Vector3d(x.x() - p.x(), x.y() - p.y(), wrap(x.theta() - p.theta()));
+        inc_[k] = Eigen::Vector3d(x.x() - p.x(), x.y() - p.y(), wrap_angle(x.theta() - p.theta()));
       }
     }
     m2_.assign(n, Eigen::Vector3d::Zero());
@@ -243,7 +225,7 @@ double TreeRelaxation::update_2d(const Edge& e, int iteration) {
   const Eigen::Vector2d rz = rot2(ca, sa) * e.z2.head<2>();  // R(θa) z_xy
   Eigen::Vector3d r;
   r.head<2>() = pa.head<2>() + rz - pb.head<2>();
-  r.z() = wrap(pa.z() + e.z2.z() - pb.z());
+  r.z() = wrap_angle(pa.z() + e.z2.z() - pb.z());
   const Eigen::Matrix3d W = rotate_information(e.info2, ca * e.cz - sa * e.sz, sa * e.cz + ca * e.sz);
   const Eigen::Vector3d d = 2.0 * W * r;
   const double l = static_cast<double>(sa_.size() + sb_.size());
@@ -354,7 +336,7 @@ void TreeRelaxation::write_back(PoseGraph& g) const {
   if (dim_ == 2) {
     std::vector<Eigen::Vector3d> pose(n);
     for (int k : topo_) pose[k] = (parent_[k] < 0 ? Eigen::Vector3d::Zero() : pose[parent_[k]]) + inc_[k];
-    for (std::size_t k = 0; k < n; ++k) g.vertex_at(vertex_[k]).pose2 = SE2(pose[k].x(), pose[k].y(), wrap(pose[k].z()));
+    for (std::size_t k = 0; k < n; ++k) g.vertex_at(vertex_[k]).pose2 = SE2(pose[k].x(), pose[k].y(), wrap_angle(pose[k].z()));
     return;
   }
   std::vector<Eigen::Quaterniond> q(n);
