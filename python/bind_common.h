@@ -72,5 +72,6 @@ void init_relaxers(py::module_& m);
 void init_calibration(py::module_& m);
 void init_filters(py::module_& m);
 void init_vio(py::module_& m);
+void init_frontend(py::module_& m);
 
 }  // namespace slamkit::python

@@ -176,4 +176,5 @@ PYBIND11_MODULE(_slamkit, m) {
   sp::init_calibration(m);
   sp::init_filters(m);
   sp::init_vio(m);
+  sp::init_frontend(m);
 }

@@ -40,6 +40,10 @@ def instances():
     if (data_root() / "vio" / "tumvi").exists():  # else test_vio.py skips (fails under CI) visibly
         vi = sk.simulate_visual_inertial("room1", duration=6.0, data=str(data_root()))
         vio = {"VisualInertialSim": vi, "VioResult": sk.run_vio(vi)}
+    texture = np.random.default_rng(1).integers(0, 256, size=(96, 128), dtype=np.uint8)
+    frontend = sk.ImageFrontend(sk.FrontendOptions(max_features=40))
+    frontend.process(texture)
+    frame = frontend.process(np.roll(texture, 2, axis=1))
     v = sk.Values()
     v.insert(0, [1.0, 2.0])
     v.insert(1, sk.SO3())
@@ -73,6 +77,7 @@ def instances():
         "RelaxerSummary": relaxer, "RelaxerIteration": relaxer.trace[-1], "HogmanOnlineResult": online,
         "CalibrationReport": calib_report, "CalibrationParameterEstimate": calib_report.parameters[0],
         "CalibrationSimOptions": sk.CalibrationSimOptions(), "LandmarkFilter": sk.make_landmark_filter("ekf"),
+        "FrontendOptions": frontend.options, "ImageFrontend": frontend, "FrontendFrame": frame,
         **vio,
     }
 

@@ -1,0 +1,93 @@
+"""The DVI front end from Python (ImageFrontend, classify_matches, read_gray_image): moving
+points break the epipolar constraint, real image pairs track and classify deterministically,
+bad images and matches raise."""
+import numpy as np
+import pytest
+import slamkit as sk
+
+from conftest import data_root, require_data
+
+K = np.array([[400.0, 0, 320], [0, 400.0, 240], [0, 0, 1]])
+
+
+def project(points, R, t):
+    cam = points @ R.T + t
+    uv = cam @ K.T
+    return uv[:, :2] / uv[:, 2:]
+
+
+def two_views(seed=3, movers=12):
+    """Static points seen from two poses of a translating, turning camera; the last `movers` move."""
+    rng = np.random.default_rng(seed)
+    points = rng.uniform([-4, -3, 4], [4, 3, 10], size=(150, 3))
+    a = 0.05
+    R = np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
+    moved = points.copy()
+    moved[-movers:] += rng.choice([-1, 1], size=(movers, 1)) * np.array([0.0, 0.25, 0.0])  # vertical walk
+    return project(points, np.eye(3), np.zeros(3)), project(moved, R, np.array([0.3, 0.0, 0.05]))
+
+
+def test_moving_points_break_the_epipolar_constraint():
+    p1, p2 = two_views()
+    p1 += np.random.default_rng(0).normal(0, 0.1, p1.shape)  # tracking noise
+    c = sk.classify_matches(p1, p2)
+    assert c["status"] == "epipolar" and c["F"].shape == (3, 3)
+    motion = c["motion"]
+    assert (motion[-12:] == 2).all()  # every mover flagged dynamic
+    assert (motion[:-12] == 2).mean() < 0.02  # static points pass
+    assert c["static_ratio"] == pytest.approx((motion == 1).sum() / (motion != 0).sum())
+    assert np.isfinite(c["distance_px"]).all() and c["median_flow_px"] > 1
+
+
+def test_too_few_matches_is_a_reported_condition():
+    p1, p2 = two_views()
+    c = sk.classify_matches(p1[:5], p2[:5])
+    assert c["status"] == "too_few_matches" and (c["motion"] == 0).all() and c["static_ratio"] == 1.0
+
+
+def test_real_pair_tracks_and_classifies_deterministically():
+    require_data("vio/dynamic_video")
+    d = data_root() / "vio" / "dynamic_video"
+    a, b = sk.read_gray_image(str(d / "rubberwhale1.png")), sk.read_gray_image(str(d / "rubberwhale2.png"))
+    assert a.shape == (388, 584) and a.dtype == np.uint8
+    runs = []
+    for _ in range(2):
+        f = sk.ImageFrontend(baseline_frames=1)
+        first = f.process(a)
+        assert first.status == "too_few_matches" and first.detected > 100 and (first.motion == 0).all()
+        runs.append(f.process(b))
+    r = runs[0]
+    assert r.status == "epipolar" and r.tracked > 100 and r.uv.shape == (r.ids.size, 2)
+    assert r.n_static + r.n_dynamic + r.n_unknown == r.ids.size
+    assert 0.8 < r.static_ratio < 1.0 and r.n_dynamic > 0  # the whale and the wheel move
+    np.testing.assert_array_equal(r.motion, runs[1].motion)
+    np.testing.assert_array_equal(r.uv, runs[1].uv)
+
+
+def test_options_and_bad_input():
+    o = sk.FrontendOptions(threshold_px=2.0, max_features=80)
+    assert o.threshold_px == 2.0 and o.max_features == 80 and sk.ImageFrontend(o).options.max_features == 80
+    with pytest.raises(TypeError):
+        sk.FrontendOptions(no_such_option=1)
+    with pytest.raises(TypeError):
+        sk.ImageFrontend(o, threshold_px=1.0)
+    f = sk.ImageFrontend()
+    with pytest.raises(ValueError):
+        f.process(np.zeros((48, 64)))  # float64, not uint8
+    with pytest.raises(ValueError):
+        f.process(np.zeros((48, 64, 3), np.uint8))
+    f.process(np.zeros((48, 64), np.uint8))
+    with pytest.raises(ValueError):
+        f.process(np.zeros((40, 64), np.uint8))  # another size
+    with pytest.raises(ValueError):
+        sk.ImageFrontend(mask=np.ones((10, 10), np.uint8)).process(np.zeros((48, 64), np.uint8))
+    with pytest.raises(sk.InputError):
+        sk.read_gray_image("/no/such/image.png")
+    p1, p2 = two_views()
+    with pytest.raises(ValueError):
+        sk.classify_matches(p1, p2[:-1])
+    p1[0, 0] = np.nan
+    with pytest.raises(ValueError):
+        sk.classify_matches(p1, p2)
+    with pytest.raises(ValueError):
+        sk.classify_matches(p2, p2, threshold_px=float("nan"))
