@@ -5,7 +5,7 @@
 #
 #   scripts/fuzz.sh [TARGET] [SECONDS]
 #     TARGET   g2o | toro | gtsam | bal | traj_tum | traj_euroc | traj_kitti | traj_slamkit | mrclam | landmark_dataset | sim_spec |
-#              config | vi_sim | all   (default: all, one after the other)
+#              config | vi_sim | image_sequence | all   (default: all, one after the other)
 #     SECONDS  time per target            (default: 60)
 #
 # The corpus grows in fuzz-corpus/<target>/ (git-ignored); a crash is saved as
@@ -20,7 +20,7 @@ seconds=${2:-60}
 build=${SLAMKIT_FUZZ_BUILD:-$root/build-fuzz}
 jobs=${JOBS:-2}
 
-all_targets=(g2o toro gtsam bal traj_tum traj_euroc traj_kitti traj_slamkit mrclam landmark_dataset sim_spec config vi_sim)
+all_targets=(g2o toro gtsam bal traj_tum traj_euroc traj_kitti traj_slamkit mrclam landmark_dataset sim_spec config vi_sim image_sequence)
 if [[ "$target" == all ]]; then
   targets=("${all_targets[@]}")
 elif [[ " ${all_targets[*]} " == *" $target "* ]]; then
@@ -31,7 +31,7 @@ fi
 
 dictionary() {
   case "$1" in
-    traj_*) echo trajectory.dict ;;
+    traj_* | image_sequence) echo trajectory.dict ;;
     sim_spec) echo sim.dict ;;
     config) echo json.dict ;;
     vi_sim) echo vi_sim.dict ;;

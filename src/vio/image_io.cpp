@@ -33,12 +33,19 @@ void close_out(std::ofstream& out, const fs::path& path) {
   if (!out) throw InputError(path.string(), 0, "images", "write failed");
 }
 
-// "#timestamp [ns],filename" → (stamp, file) pairs, stamps strictly increasing.
-std::vector<std::pair<std::int64_t, std::string>> read_stamp_list(const fs::path& csv) {
+// One line of a "#timestamp [ns],filename" list.
+struct StampedFile {
+  std::int64_t t_ns;
+  std::string name;
+  int line;  ///< 1-based line of the csv, for errors found later
+};
+
+// The list of a data.csv, stamps strictly increasing.
+std::vector<StampedFile> read_stamp_list(const fs::path& csv) {
   TextReader::Options opt;
   opt.delimiter = ',';
   auto reader = TextReader::open(csv.string(), opt);
-  std::vector<std::pair<std::int64_t, std::string>> out;
+  std::vector<StampedFile> out;
   while (reader->next_line()) {
     reader->expect_fields(2, "frame");
     const std::int64_t t = reader->integer(0, "timestamp");
@@ -46,11 +53,22 @@ std::vector<std::pair<std::int64_t, std::string>> read_stamp_list(const fs::path
     while (!name.empty() && (name.back() == ' ' || name.back() == '\r')) name.pop_back();
     while (!name.empty() && name.front() == ' ') name.erase(name.begin());
     if (name.empty()) reader->fail("filename", "empty");
-    if (!out.empty() && t <= out.back().first) reader->fail("timestamp", "does not increase");
-    out.emplace_back(t, name);
+    if (!out.empty() && t <= out.back().t_ns) reader->fail("timestamp", "does not increase");
+    out.push_back({t, name, reader->line_number()});
   }
   if (out.empty()) throw InputError(csv.string(), 0, "frame", "no frames");
   return out;
+}
+
+// Whether `path` is a regular file, without throwing on names the OS refuses (too long, a
+// component that is a file, no permission): those are not images either.
+bool is_file(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec) && !ec;
+}
+bool path_exists(const fs::path& path) {
+  std::error_code ec;
+  return fs::exists(path, ec) && !ec;
 }
 
 }  // namespace
@@ -70,7 +88,7 @@ void write_png(const std::string& path, const GrayImage& image) {
 }
 
 GrayImage read_png(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw InputError(path, 0, "image", "no such file");
+  if (!is_file(path)) throw InputError(path, 0, "image", "no such file");
   cv::Mat mat;
   try {
     mat = cv::imread(path, cv::IMREAD_UNCHANGED);
@@ -90,35 +108,37 @@ GrayImage read_png(const std::string& path) {
 ImageSequence read_image_sequence(const std::string& dir) {
   const fs::path root(dir);
   const fs::path cam = root / "mav0/cam0";
-  if (!fs::is_directory(cam)) throw InputError(dir, 0, "images", "no mav0/cam0 folder (EuRoC/ASL layout expected)");
+  std::error_code ec;
+  if (!fs::is_directory(cam, ec) || ec) throw InputError(dir, 0, "images", "no mav0/cam0 folder (EuRoC/ASL layout expected)");
   ImageSequence seq;
   seq.root = dir;
   const auto frames = read_stamp_list(cam / "data.csv");
-  for (const auto& [t, name] : frames) {
+  for (const StampedFile& e : frames) {
     ImageSequenceFrame f;
-    f.t_ns = t;
-    f.t = static_cast<double>(t) * 1e-9;
-    f.image_path = (cam / "data" / name).string();
-    if (!fs::is_regular_file(f.image_path))
-      throw InputError((cam / "data.csv").string(), 0, "filename", "missing image " + f.image_path);
+    f.t_ns = e.t_ns;
+    f.t = static_cast<double>(e.t_ns) * 1e-9;
+    f.image_path = (cam / "data" / e.name).string();
+    if (!is_file(f.image_path))
+      throw InputError((cam / "data.csv").string(), e.line, "filename", "missing image " + f.image_path);
     seq.frames.push_back(f);
   }
   const fs::path labels = root / "mav0/labels0/data.csv";
-  if (fs::exists(labels)) {
+  if (path_exists(labels)) {
     const auto list = read_stamp_list(labels);
     if (list.size() != frames.size())
       throw InputError(labels.string(), 0, "timestamp", "has " + std::to_string(list.size()) + " frames, cam0 has " +
                                                             std::to_string(frames.size()));
     for (std::size_t k = 0; k < list.size(); ++k) {
-      if (list[k].first != frames[k].first)
-        throw InputError(labels.string(), static_cast<int>(k + 2), "timestamp", "differs from cam0's");
-      seq.frames[k].label_path = (root / "mav0/labels0/data" / list[k].second).string();
+      if (list[k].t_ns != frames[k].t_ns) throw InputError(labels.string(), list[k].line, "timestamp", "differs from cam0's");
+      seq.frames[k].label_path = (root / "mav0/labels0/data" / list[k].name).string();
+      if (!is_file(seq.frames[k].label_path))
+        throw InputError(labels.string(), list[k].line, "filename", "missing label image " + seq.frames[k].label_path);
     }
   }
   const fs::path imu = root / "mav0/imu0/data.csv";
-  if (fs::exists(imu)) seq.imu = read_imu_csv(imu.string());
+  if (path_exists(imu)) seq.imu = read_imu_csv(imu.string());
   const fs::path gt = root / "mav0/state_groundtruth_estimate0/data.csv";
-  if (fs::exists(gt)) seq.groundtruth = read_trajectory(gt.string(), TrajectoryFormat::kEuroc);
+  if (path_exists(gt)) seq.groundtruth = read_trajectory(gt.string(), TrajectoryFormat::kEuroc);
   return seq;
 }
 

@@ -97,8 +97,31 @@ TEST(RenderImageIo, SequenceRoundTrip) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("labels0/data.csv"), std::string::npos) << e.what();
   }
+  // A label image that is not there: the line and field of labels0/data.csv (before any work).
+  fs::remove(dir.path / "mav0/labels0/data.csv");
+  writer.finish();
+  fs::remove(seq.frames[2].label_path);
+  try {
+    read_image_sequence(dir.path.string());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.file().find("labels0/data.csv"), std::string::npos) << e.what();
+    EXPECT_EQ(e.line(), 4);
+    EXPECT_EQ(e.field(), "filename");
+  }
   fs::remove(dir.path / "mav0/labels0/data.csv");
   fs::remove(seq.frames[1].image_path);
+  try {
+    read_image_sequence(dir.path.string());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.field(), "filename");
+  }
+  // A file name the OS refuses (longer than NAME_MAX): an InputError, not a filesystem_error
+  // (found by fuzz_image_sequence).
+  std::ofstream((dir.path / "mav0/cam0/data.csv").string()) << "#timestamp [ns],filename\n1," << std::string(300, 'x')
+                                                             << ".png\n";
   EXPECT_THROW(read_image_sequence(dir.path.string()), InputError);
   std::ofstream((dir.path / "mav0/cam0/data.csv").string()) << "#timestamp [ns],filename\n5,a.png\n4,b.png\n";
   try {

@@ -52,7 +52,7 @@ struct ImageSequence {
 
 /// Reads the layout above (cam0 required; labels0, imu0 and the ground truth when present).
 /// Throws InputError naming the file, line and field on a malformed csv, stamps that do not
-/// increase, a missing image file, or labels whose stamps differ from cam0's.
+/// increase, a missing image or label file, or labels whose stamps differ from cam0's.
 ImageSequence read_image_sequence(const std::string& dir);
 
 /// Writes a sequence in the layout above, frame by frame.
