@@ -86,12 +86,13 @@ Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& values, 
       // Step: factorize H + λD (more damping while it is not positive definite), solve.
       const double t_lin = now_s();
       int solves = 0;
-      D = options.lm_diagonal_scaling ? Eigen::VectorXd(ne.hessian_diagonal().cwiseMax(1e-6).cwiseMin(1e32))
-                                      : Eigen::VectorXd::Ones(ne.dim());
+      // In place (D keeps its allocation from one iteration to the next).
+      if (options.lm_diagonal_scaling) D = ne.hessian_diagonal().cwiseMax(1e-6).cwiseMin(1e32);
+      else D.setOnes(ne.dim());
       bool factored = false;
       rhs = -ne.gradient();
       while (true) {
-        ne.set_diagonal_damping(lambda * D);
+        ne.set_diagonal_damping(lambda, D);
         ++solves;
         if (solver.factorize(ne.hessian(), rhs.data())) {  // the reduced rhs is formed with S
           factored = true;

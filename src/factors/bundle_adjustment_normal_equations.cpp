@@ -308,6 +308,17 @@ void BalNormalEquations::set_diagonal_damping(const Eigen::VectorXd& damping) {
   damped_ = true;
 }
 
+void BalNormalEquations::set_diagonal_damping(double lambda, const Eigen::VectorXd& D) {
+  const auto& pos = hessian_.diagonal_positions();
+  auto& v = hessian_.values();
+  damping_.resize(dim());
+  for (int a = 0; a < dim(); ++a) {
+    damping_[a] = lambda * D[a];
+    v[pos[a]] = diag_[a] + damping_[a];
+  }
+  damped_ = true;
+}
+
 void BalNormalEquations::clear_damping() {
   if (!damped_) return;
   const auto& pos = hessian_.diagonal_positions();

@@ -69,6 +69,8 @@ class BalNormalEquations {
   const Eigen::VectorXd& hessian_diagonal() const { return diag_; }
   /// diag(H) ← diag + damping (replaces any previous damping); clear_damping restores it.
   void set_diagonal_damping(const Eigen::VectorXd& damping);
+  /// The same with damping = λ·D, formed element by element (no temporary vector; same bits).
+  void set_diagonal_damping(double lambda, const Eigen::VectorXd& D);
   void clear_damping();
   /// δᵀ H δ with the undamped H.
   double quadratic(const Eigen::VectorXd& d) const;
