@@ -10,14 +10,9 @@ namespace slamkit {
 namespace {
 
 constexpr int kChunk = 256;  // points per cost chunk (fixed: the summation order)
-constexpr int kFt = 18;      // doubles per observation in ft_: F_ijᵀ (9×2, col-major)
 
 using Mat29 = Eigen::Matrix<double, 2, 9>;
 using Mat23 = Eigen::Matrix<double, 2, 3>;
-using Mat93 = Eigen::Matrix<double, 9, 3>;
-using Mat99 = Eigen::Matrix<double, 9, 9>;
-template <int R, int C>
-using MapS = Eigen::Map<Eigen::Matrix<double, R, C>, 0, Eigen::OuterStride<>>;
 template <int R, int C>
 using CMapS = Eigen::Map<const Eigen::Matrix<double, R, C>, 0, Eigen::OuterStride<>>;
 
@@ -52,8 +47,6 @@ struct PointPassData {
   const BalPointObservation* obs;
   const int* pt_ptr;
   const BalCameraFrame* frames;
-  double* ft;     // F_ij (2×9 row-major) per camera-order slot
-  double* r_cam;  // r_ij per camera-order slot
   double* H;
   double* g;
   double* diag;
@@ -74,8 +67,9 @@ inline void write_w(double* __restrict W, int ld, const double* __restrict F, co
   }
 }
 
-// Points [j_begin, j_end): per observation the fused kernel writes F_ij, r_ij at its
-// camera-order slot; per point C_j, g_j, W_ij go into H. Returns Σ ρ(‖r‖²) in point order.
+// Points [j_begin, j_end): per observation the fused kernel's r, E, F (F stays local: the camera
+// pass recomputes it); per point C_j, g_j, W_ij go into H, in the point's column, in order.
+// Returns Σ ρ(‖r‖²) in point order.
 // Cloned for AVX2 (selected at run time): contraction to FMA is off (-std=c++17) and no
 // reduction is reordered, so both clones give the same bits.
 __attribute__((target_clones("avx2", "default"))) double linearize_points(const PointPassData& d, int j_begin,
@@ -90,9 +84,7 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points(const 
     const int ld = d.hessian->leading_dim(j);
     int previous_camera = -1;
     for (; ob != oe; ++ob) {
-      double* F = d.ft + static_cast<std::size_t>(ob->slot) * kFt;
-      double* r = d.r_cam + 2 * static_cast<std::size_t>(ob->slot);
-      double E[6];
+      double F[18], r[2], E[6];
       bal_linearize(d.frames[ob->camera], X, ob->z, r, E, F);
       if (d.kernel) {
         Eigen::Vector2d rv(r[0], r[1]);
@@ -131,6 +123,83 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points(const 
   return sum;
 }
 
+// Four observations of one camera, one per lane (GCC vector: AVX2 in the avx2 clone, two SSE2
+// halves in the default one; elementwise IEEE either way, so both clones give the same bits).
+typedef double Lanes __attribute__((vector_size(32)));
+constexpr int kLanes = 4;
+
+// What the camera pass reads and writes.
+struct CameraPassData {
+  const Eigen::Vector3d* points;
+  const BalCameraObservation* obs;  // camera order
+  const int* cam_ptr;
+  const BalCameraFrame* frames;
+  double* H;
+  double* g;
+  double* diag;
+  const BlockSparseMatrix* hessian;
+  const RobustKernel* kernel;
+  int np;
+};
+
+// Cameras [i_begin, i_end): B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij. F_ij, r_ij are recomputed
+// here by the fused kernel (after the robust correction: the point pass's bits), four
+// observations at a time in lanes; nothing is stored per observation. The sums run per lane
+// over the camera's groups of four, then over the lanes 0..3: the order depends only on the
+// camera's observation count. Padded lanes (the last group) repeat its last observation and
+// contribute zeros.
+__attribute__((target_clones("avx2", "default"))) void linearize_cameras(const CameraPassData& d, int i_begin,
+                                                                         int i_end) {
+  for (int i = i_begin; i < i_end; ++i) {
+    const BalCameraFrame& c = d.frames[i];
+    Lanes B[45], gi[9];  // B's lower triangle row by row: (a, b) at a(a+1)/2 + b
+    for (Lanes& v : B) v = Lanes{0.0, 0.0, 0.0, 0.0};
+    for (Lanes& v : gi) v = Lanes{0.0, 0.0, 0.0, 0.0};
+    const int q_end = d.cam_ptr[i + 1];
+    for (int q = d.cam_ptr[i]; q < q_end; q += kLanes) {
+      const int n = std::min(kLanes, q_end - q);
+      Lanes X[3], z[2], r[2], E[6], F[18];
+      for (int k = 0; k < kLanes; ++k) {
+        const BalCameraObservation& o = d.obs[q + std::min(k, n - 1)];
+        const double* P = d.points[o.point].data();
+        X[0][k] = P[0], X[1][k] = P[1], X[2][k] = P[2];
+        z[0][k] = o.z[0], z[1][k] = o.z[1];
+      }
+      bal_linearize(c, X, z, r, E, F);
+      if (d.kernel) {
+        for (int k = 0; k < n; ++k) {
+          Eigen::Vector2d rv(r[0][k], r[1][k]);
+          Mat29 Fl;
+          Mat23 El;
+          for (int a = 0; a < 9; ++a) Fl(0, a) = F[a][k], Fl(1, a) = F[9 + a][k];
+          for (int a = 0; a < 3; ++a) El(0, a) = E[a][k], El(1, a) = E[3 + a][k];
+          robust_correct(*d.kernel, rv, &Fl, &El);
+          for (int a = 0; a < 9; ++a) F[a][k] = Fl(0, a), F[9 + a][k] = Fl(1, a);
+          r[0][k] = rv[0], r[1][k] = rv[1];
+        }
+      }
+      for (int k = n; k < kLanes; ++k) {
+        r[0][k] = r[1][k] = 0.0;
+        for (Lanes& v : F) v[k] = 0.0;
+      }
+      for (int a = 0, t = 0; a < 9; ++a) {
+        for (int b = 0; b <= a; ++b, ++t) B[t] += F[a] * F[b] + F[9 + a] * F[9 + b];
+        gi[a] += F[a] * r[0] + F[9 + a] * r[1];
+      }
+    }
+    const int bi = d.np + i, ld = d.hessian->leading_dim(bi), s = d.hessian->block_start(bi);
+    double* Bi = d.H + d.hessian->block_offset(bi, bi);
+    for (int a = 0, t = 0; a < 9; ++a) {
+      for (int b = 0; b <= a; ++b, ++t) {
+        const double v = ((B[t][0] + B[t][1]) + B[t][2]) + B[t][3];
+        Bi[static_cast<std::ptrdiff_t>(b) * ld + a] = v, Bi[static_cast<std::ptrdiff_t>(a) * ld + b] = v;
+      }
+      d.g[s + a] = ((gi[a][0] + gi[a][1]) + gi[a][2]) + gi[a][3];
+      d.diag[s + a] = Bi[static_cast<std::ptrdiff_t>(a) * ld + a];
+    }
+  }
+}
+
 }  // namespace
 
 BalState make_bal_state(const BalProblem& p) {
@@ -160,7 +229,7 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
   }
   std::partial_sum(pt_ptr_.begin(), pt_ptr_.end(), pt_ptr_.begin());
   std::partial_sum(cam_ptr_.begin(), cam_ptr_.end(), cam_ptr_.begin());
-  std::vector<int> cam_obs(no), slot_of(no);
+  std::vector<int> cam_obs(no);
   {
     std::vector<int> fill(cam_ptr_.begin(), cam_ptr_.end() - 1);
     std::vector<int> by_point(no);
@@ -169,7 +238,6 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
                      [&](int a, int b) { return p.observations[a].point < p.observations[b].point; });
     for (int k : by_point) cam_obs[fill[p.observations[k].camera]++] = k;  // camera, then point order
   }
-  for (int q = 0; q < no; ++q) slot_of[cam_obs[q]] = q;
   // H's pattern: point j is block j, camera i block np + i; one block per observed pair.
   std::vector<int> dims(static_cast<std::size_t>(np_) + nc_, 9);
   std::fill(dims.begin(), dims.begin() + np_, 3);
@@ -185,14 +253,17 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
       const BalObservation& o = p.observations[k];
       PointObs& po = pt_obs_[pfill[o.point]++];
       po.w_off = hessian_.block_offset(np_ + o.camera, o.point);
-      po.camera = o.camera, po.slot = slot_of[k];
+      po.camera = o.camera;
       po.z[0] = o.pixel.x(), po.z[1] = o.pixel.y();
     }
   }
   g_.setZero(hessian_.rows());
   diag_.setZero(hessian_.rows());
-  ft_.assign(static_cast<std::size_t>(no) * kFt, 0.0);
-  r_cam_.assign(2 * static_cast<std::size_t>(no), 0.0);
+  cam_obs_.resize(no);
+  for (int q = 0; q < no; ++q) {
+    const BalObservation& o = p.observations[cam_obs[q]];
+    cam_obs_[q].point = o.point, cam_obs_[q].z[0] = o.pixel.x(), cam_obs_[q].z[1] = o.pixel.y();
+  }
   frames_.resize(nc_);
   chunk_cost_.assign((np_ + kChunk - 1) / kChunk, 0.0);
 }
@@ -211,12 +282,10 @@ void BalNormalEquations::camera_frames(const BalState& x) const {
       64);
 }
 
-// Per point j (chunks of kChunk points): residuals of its observations; with Jacobians also
-// C_j, g_j, W_ij = F_ijᵀE_ij (into H, the point's own column) and F_ij, r_ij (written by the
-// kernel straight into ft_, r_cam_ at the observation's camera-order slot).
+// Per point j (chunks of kChunk points), its observations in camera order: their residuals and
+// ρ; with Jacobians also C_j, g_j and W_ij (linearize_points). The frames must be formed.
 template <bool kJacobians>
 double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* chunk_cost) {
-  camera_frames(x);
   const int nchunks = static_cast<int>(chunk_cost->size());
   double* H = hessian_.values().data();
   const RobustKernel* kernel = kernel_.get();
@@ -229,7 +298,7 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
           const int j_end = std::min<int>(np_, j_begin + kChunk);
           if (kJacobians) {
             const PointPassData d{x.points.data(), pt_obs_.data(), pt_ptr_.data(), frames_.data(),
-                                  ft_.data(), r_cam_.data(), H, g_.data(), diag_.data(), &hessian_, kernel};
+                                  H, g_.data(), diag_.data(), &hessian_, kernel};
             sum = linearize_points(d, j_begin, j_end);
           } else {
             for (int j = j_begin; j < j_end; ++j) {
@@ -259,35 +328,19 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
 
 double BalNormalEquations::cost(const BalState& x) const {
   // point_pass<false> writes nothing but frames_ and the chunk sums (both mutable scratch).
+  camera_frames(x);
   return const_cast<BalNormalEquations*>(this)->point_pass<false>(x, &chunk_cost_);
 }
 
 double BalNormalEquations::linearize(const BalState& x) {
   damped_ = false;
+  camera_frames(x);
+  // Points: C_j, g_j, W_ij and the cost; then cameras: B_i, g_i (F_ij recomputed in lanes).
   const double total = point_pass<true>(x, &chunk_cost_);
-  // Cameras: B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij over the camera's observations in point order.
-  double* H = hessian_.values().data();
+  const CameraPassData d{x.points.data(), cam_obs_.data(), cam_ptr_.data(), frames_.data(),
+                         hessian_.values().data(), g_.data(), diag_.data(), &hessian_, kernel_.get(), np_};
   pool_.parallel_for(
-      nc_,
-      [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-          // B_i = M Mᵀ, g_i = M r with M = [F_ij₁ᵀ … F_ijₘᵀ] (9 × 2m, contiguous): one blocked product
-          // per camera instead of m tiny ones; its summation order depends only on m.
-          const int m2 = 2 * (cam_ptr_[i + 1] - cam_ptr_[i]);
-          const Eigen::Map<const Eigen::Matrix<double, 9, Eigen::Dynamic>> M(
-              ft_.data() + static_cast<std::size_t>(cam_ptr_[i]) * kFt, 9, m2);
-          Mat99 B = Mat99::Zero();
-          B.selfadjointView<Eigen::Lower>().rankUpdate(M);
-          B.triangularView<Eigen::StrictlyUpper>() = B.transpose();
-          const Eigen::Matrix<double, 9, 1> gi = M * Eigen::Map<const Eigen::VectorXd>(r_cam_.data() + 2 * cam_ptr_[i], m2);
-          const int bi = np_ + static_cast<int>(i);
-          MapS<9, 9>(H + hessian_.block_offset(bi, bi), 9, 9, Eigen::OuterStride<>(hessian_.leading_dim(bi))) = B;
-          const int s = hessian_.block_start(bi);
-          g_.segment<9>(s) = gi;
-          diag_.segment<9>(s) = B.diagonal();
-        }
-      },
-      1);
+      nc_, [&](std::size_t b, std::size_t e) { linearize_cameras(d, static_cast<int>(b), static_cast<int>(e)); }, 1);
   return total;
 }
 

@@ -11,10 +11,12 @@
 // g = Jᵀr, laid out as a BlockSparseMatrix (point columns [C_j; W_·j], camera columns [B_i]) so
 // that SchurComplementSolver forms S = B − Σ_j W_·j C_j⁻¹ W_·jᵀ (or applies it, PCG) from them
 // for every λ without re-evaluating anything.
-// Parallelism: one pass over points (r, F, E of its observations in camera order; writes C_j,
-// g_j, W_ij, and F_ijᵀ, r_ij into a buffer in camera order: 20 doubles per observation), one
-// over cameras (B_i = M Mᵀ, g_i = M r with M the camera's F_ijᵀ side by side, point order). Costs are summed per fixed chunk
-// of points, then chunk by chunk: results are bit-identical for any thread count.
+// Parallelism: one pass over points (r, E, F of its observations in camera order; writes C_j,
+// g_j and W_ij into the point's column of H, in order), one over cameras (the fused kernel again
+// on four observations of the camera at a time, one per SIMD lane, for B_i and g_i: recomputing
+// F costs less than storing it, 144 B per observation written in camera order and read back).
+// Nothing is kept per observation beyond W. Costs are summed per fixed chunk of points, then
+// chunk by chunk, B_i per lane then lane by lane: bit-identical for any thread count.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,7 +44,11 @@ void copy_bal_state(const BalState& x, BalProblem& p);
 struct BalPointObservation {
   std::ptrdiff_t w_off;  // offset of W_ij in H's values
   int camera;
-  int slot;              // its position in camera order (the F_ij, r_ij buffers)
+  double z[2];
+};
+/// An observation as the camera pass reads it (in camera order, then point order).
+struct BalCameraObservation {
+  int point;
   double z[2];
 };
 
@@ -95,8 +101,7 @@ class BalNormalEquations {
   BlockSparseMatrix hessian_;
   Eigen::VectorXd g_, diag_, damping_;
   bool damped_ = false;
-  // F_ijᵀ (9×2) and r_ij per observation, after the kernel, in camera order (slot cam_slot_[k]).
-  std::vector<double> ft_, r_cam_;
+  std::vector<BalCameraObservation> cam_obs_;  // camera order (slot order)
   mutable std::vector<BalCameraFrame> frames_;
   mutable std::vector<double> chunk_cost_;
 };
