@@ -92,9 +92,9 @@ Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& values, 
       bool factored = false;
       rhs = -ne.gradient();
       while (true) {
-        ne.set_diagonal_damping(lambda, D);
+        ne.set_diagonal_damping(lambda, D, false);  // the points' λD is added by the solver to C_j
         ++solves;
-        if (solver.factorize(ne.hessian(), rhs.data())) {  // the reduced rhs is formed with S
+        if (solver.factorize(ne.hessian(), rhs.data(), ne.damping().data())) {  // the reduced rhs is formed with S
           factored = true;
           break;
         }

@@ -358,14 +358,16 @@ void BalNormalEquations::set_diagonal_damping(const Eigen::VectorXd& damping) {
   auto& v = hessian_.values();
   for (int a = 0; a < dim(); ++a) v[pos[a]] = diag_[a] + damping[a];
   damping_ = damping;
-  damped_ = true;
+  damped_ = true, damped_from_ = 0;
 }
 
-void BalNormalEquations::set_diagonal_damping(double lambda, const Eigen::VectorXd& D) {
+void BalNormalEquations::set_diagonal_damping(double lambda, const Eigen::VectorXd& D, bool points_in_h) {
   const auto& pos = hessian_.diagonal_positions();
   auto& v = hessian_.values();
   damping_.resize(dim());
-  for (int a = 0; a < dim(); ++a) {
+  damped_from_ = points_in_h ? 0 : 3 * np_;
+  for (int a = 0; a < damped_from_; ++a) damping_[a] = lambda * D[a];
+  for (int a = damped_from_; a < dim(); ++a) {
     damping_[a] = lambda * D[a];
     v[pos[a]] = diag_[a] + damping_[a];
   }
@@ -376,7 +378,7 @@ void BalNormalEquations::clear_damping() {
   if (!damped_) return;
   const auto& pos = hessian_.diagonal_positions();
   auto& v = hessian_.values();
-  for (int a = 0; a < dim(); ++a) v[pos[a]] = diag_[a];
+  for (int a = damped_from_; a < dim(); ++a) v[pos[a]] = diag_[a];
   damped_ = false;
 }
 
@@ -416,7 +418,11 @@ double BalNormalEquations::quadratic(const Eigen::VectorXd& d) const {
     const Eigen::Matrix<double, 9, 1> di = d.segment<9>(s);
     q += di.dot(CMapS<9, 9>(H + hessian_.block_offset(bi, bi), 9, 9, Eigen::OuterStride<>(hessian_.leading_dim(bi))) * di);
   }
-  if (damped_) q -= (damping_.array() * d.array().square()).sum();
+  if (damped_ && damped_from_ == 0) q -= (damping_.array() * d.array().square()).sum();
+  if (damped_ && damped_from_ > 0) {
+    const int n = dim() - damped_from_;
+    q -= (damping_.tail(n).array() * d.tail(n).array().square()).sum();
+  }
   return q;
 }
 

@@ -103,12 +103,15 @@ struct SchurComplementSolver::Impl {
   const double* H() const { return A->values().data(); }
 
   // C_e⁻¹ for e in [b, e); false if some C_e is not positive definite.
+  // With shift (H's row order), C_e + diag(shift_e).
   template <int ED>
-  bool invert_c(std::size_t begin, std::size_t end) {
+  bool invert_c(std::size_t begin, std::size_t end, const double* shift) {
     using M = Eigen::Matrix<double, ED, ED>;
     for (std::size_t e = begin; e < end; ++e) {
       const int d = ed[e];
-      const M C = CMap<ED, ED>(H() + e_diag_off[e], d, d, Eigen::OuterStride<>(e_diag_ld[e]));
+      M C = CMap<ED, ED>(H() + e_diag_off[e], d, d, Eigen::OuterStride<>(e_diag_ld[e]));
+      if (shift)
+        for (int a = 0; a < d; ++a) C(a, a) += shift[e_start[e] + a];
       Eigen::LLT<M> l(C);
       if (l.info() != Eigen::Success) return false;
       MMap<ED, ED> out(cinv.data() + cinv_off[e], d, d, Eigen::OuterStride<>(d));
@@ -477,7 +480,7 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
 
 bool SchurComplementSolver::factorize(const BlockSparseMatrix& A) { return factorize(A, nullptr); }
 
-bool SchurComplementSolver::factorize(const BlockSparseMatrix& A, const double* b) {
+bool SchurComplementSolver::factorize(const BlockSparseMatrix& A, const double* b, const double* eliminated_shift) {
   Impl& m = *impl_;
   if (m.A == nullptr || A.rows() != m.A->rows()) throw std::logic_error("SchurComplementSolver::factorize before analyze");
   m.A = &A;
@@ -488,7 +491,7 @@ bool SchurComplementSolver::factorize(const BlockSparseMatrix& A, const double* 
   m.dispatch([&](auto KD, auto ED) {
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
     (void)kd;
-    pool_.parallel_for(m.ne, [&](std::size_t b, std::size_t e) { ok[b] = m.template invert_c<edim>(b, e); });
+    pool_.parallel_for(m.ne, [&](std::size_t b, std::size_t e) { ok[b] = m.template invert_c<edim>(b, e, eliminated_shift); });
   });
   for (char c : ok) good = good && c;
   if (!good) return false;
@@ -609,7 +612,7 @@ bool SchurComplementSolver::reduced_system(const BlockSparseMatrix& A, const dou
   bool good = true;
   m.dispatch([&](auto KD, auto ED) {
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
-    good = m.template invert_c<edim>(0, m.ne);
+    good = m.template invert_c<edim>(0, m.ne, nullptr);
     if (!good) return;
     m.gather_rhs(b);
     m.template form_dense<kd, edim>(pool_, true);

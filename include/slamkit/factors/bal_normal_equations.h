@@ -76,7 +76,12 @@ class BalNormalEquations {
   /// diag(H) ← diag + damping (replaces any previous damping); clear_damping restores it.
   void set_diagonal_damping(const Eigen::VectorXd& damping);
   /// The same with damping = λ·D, formed element by element (no temporary vector; same bits).
-  void set_diagonal_damping(double lambda, const Eigen::VectorXd& D);
+  /// points_in_h = false: only the camera blocks' diagonals are damped in H; the points' damping
+  /// is left in damping() for SchurComplementSolver::factorize(H, b, damping().data()) to add
+  /// to C_j as it inverts it (no pass over H's point columns, which are not in cache by then).
+  void set_diagonal_damping(double lambda, const Eigen::VectorXd& D, bool points_in_h = true);
+  /// The damping of the last set_diagonal_damping (λ·D or the vector given), H's row order.
+  const Eigen::VectorXd& damping() const { return damping_; }
   void clear_damping();
   /// δᵀ H δ with the undamped H.
   double quadratic(const Eigen::VectorXd& d) const;
@@ -101,6 +106,7 @@ class BalNormalEquations {
   BlockSparseMatrix hessian_;
   Eigen::VectorXd g_, diag_, damping_;
   bool damped_ = false;
+  int damped_from_ = 0;  // rows [damped_from_, dim) carry their damping in H
   std::vector<BalCameraObservation> cam_obs_;  // camera order (slot order)
   mutable std::vector<BalCameraFrame> frames_;
   mutable std::vector<double> chunk_cost_;

@@ -69,7 +69,9 @@ class SchurComplementSolver final : public SparseCholesky {
   /// factorize(A) that also forms the reduced right-hand side b_k − E C⁻¹ b_e of this b while
   /// S (or the Schur-Jacobi preconditioner) is formed, where E C⁻¹ is at hand: no separate pass
   /// over the E blocks; then solve_factored_rhs(x) solves H x = b (b must stay valid until then).
-  bool factorize(const BlockSparseMatrix& A, const double* b);
+  /// eliminated_shift (H's row order, may be null): added to the diagonal of each eliminated
+  /// block C_e as it is read (C_e + diag(shift_e)); the other rows of it are not read.
+  bool factorize(const BlockSparseMatrix& A, const double* b, const double* eliminated_shift = nullptr);
   void solve_factored_rhs(double* x);
   void solve(const double* b, double* x) override;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) override;
