@@ -13,8 +13,9 @@
 //   the medians of each. Inside the iteration each phase is timed too ("in context"), so
 //   iteration − Σ phases (the unexplained part) is measured per rep, not inferred from
 //   separate runs. Every phase also reports its minor page faults (getrusage, this thread).
-// Then (unless --lm 0) full LM runs with schur-pcg, 1 thread, under the old PCG stopping rule
-// (relative residual 0.1 only) and the current one (Nash-Sofer quadratic-model test 0.1).
+// Then (unless --lm 0) full LM runs, 1 thread: schur-dense, schur-cholesky, and schur-pcg under
+// the old PCG stopping rule (relative residual 0.1 only) and the current one (Nash-Sofer 0.1):
+// iterations, linear solves, CG iterations, final cost, CPU seconds.
 //   ba_peer_phases [--only SUBSTRING] [--lm 0|1] [--reps 21] [--large 0|1] [--large-reps N] [--out FILE]
 // --large 1 adds sim:ba 2,000 cameras / 500,000 points (schur-cholesky and schur-pcg; not in the LM runs).
 #include <sys/resource.h>
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
   };
   const std::string large_name = "sim:ba?cameras=2000&points=500000&seed=1";
   if (large == "1") cases.push_back({large_name, [&] { return sim(2000, 500000); }});
-  nlohmann::json results = nlohmann::json::array(), pcg_runs = nlohmann::json::array();
+  nlohmann::json results = nlohmann::json::array(), lm_runs = nlohmann::json::array();
   for (const auto& [name, make] : cases) {
     if (!only.empty() && name.find(only) == std::string::npos) continue;
     const int reps = name == large_name ? large_reps : base_reps;
@@ -206,31 +207,36 @@ int main(int argc, char** argv) {
   }
   for (const auto& [name, make] : cases) {
     if (lm == "0" || name == large_name || (!only.empty() && name.find(only) == std::string::npos)) continue;
-    for (const bool old_rule : {true, false}) {
+    // (method, PCG under the old rule): the direct methods, then PCG under both stopping rules.
+    const std::vector<std::pair<SchurMethod, bool>> configs = {{SchurMethod::kDense, false}, {SchurMethod::kCholesky, false},
+                                                               {SchurMethod::kPcg, true}, {SchurMethod::kPcg, false}};
+    for (const auto& [method, old_rule] : configs) {
       BalProblem p = make();
+      if (method == SchurMethod::kDense && p.num_cameras() > 400) continue;
       BundleAdjustmentOptions o;
       o.optimizer.num_threads = 1;
       o.optimizer.function_tolerance = 1e-6;  // ba_peer's stopping rule
-      o.optimizer.schur.method = SchurMethod::kPcg;
+      o.optimizer.schur.method = method;
       if (old_rule) o.optimizer.schur.pcg_tolerance = 0.1, o.optimizer.schur.pcg_q_tolerance = 0.0;
       BundleAdjustmentResult r;
       const double cpu = measure([&] { r = optimize_bundle_adjustment(p, o); }, 1).med();
       const Summary& sm = r.summary;
-      const char* rule = old_rule ? "residual 0.1" : "Nash-Sofer 0.1";
-      std::printf("  LM schur-pcg %-14s %-40s iterations %3d  solves %3d  CG %5ld (%.1f per solve)  final cost %.6f  "
+      const char* rule = method != SchurMethod::kPcg ? "-" : old_rule ? "residual 0.1" : "Nash-Sofer 0.1";
+      std::printf("  LM %-15s %-14s %-40s iterations %3d  solves %3d  CG %5ld (%.1f per solve)  final cost %.6f  "
                   "CPU %.2f s\n",
-                  rule, name.c_str(), sm.iterations, sm.linear_solves, sm.pcg_iterations,
+                  to_string(method), rule, name.c_str(), sm.iterations, sm.linear_solves, sm.pcg_iterations,
                   static_cast<double>(sm.pcg_iterations) / std::max(1, sm.linear_solves), r.final_cost, cpu);
       std::fflush(stdout);
-      pcg_runs.push_back({{"problem", name}, {"pcg_stopping_rule", rule}, {"iterations", sm.iterations},
-                          {"linear_solves", sm.linear_solves}, {"pcg_iterations", sm.pcg_iterations},
-                          {"final_cost", r.final_cost}, {"cpu_s", cpu}, {"termination", to_string(sm.termination)}});
+      lm_runs.push_back({{"problem", name}, {"method", to_string(method)}, {"pcg_stopping_rule", rule},
+                         {"iterations", sm.iterations}, {"linear_solves", sm.linear_solves},
+                         {"pcg_iterations", sm.pcg_iterations}, {"final_cost", r.final_cost}, {"cpu_s", cpu},
+                         {"termination", to_string(sm.termination)}});
     }
   }
   std::ofstream(out) << nlohmann::json{{"clock", "thread CPU time, 1 thread; bare and iteration interleaved, "
                                                  "medians of " + std::to_string(base_reps) + " reps"},
                                        {"phases", results},
-                                       {"pcg_lm_runs", pcg_runs}}
+                                       {"lm_runs", lm_runs}}
                             .dump(2)
                      << "\n";
   std::printf("wrote %s\n", out.c_str());

@@ -41,6 +41,26 @@ double robust_correct(const RobustKernel& k, Eigen::Vector2d& r, Mat29* F, Mat23
   return rho[0];
 }
 
+// Four observations, one per lane (GCC vector: AVX2 in the avx2 clones, two SSE2 halves in the
+// default ones; elementwise IEEE either way, so both clones give the same bits).
+typedef double Lanes __attribute__((vector_size(32)));
+constexpr int kLanes = 4;
+
+// robust_correct on lanes [0, n) of r, E, F (each lane as the scalar code does it); cost ← ρ.
+inline void robust_correct_lanes(const RobustKernel& kernel, int n, Lanes* r, Lanes* E, Lanes* F, Lanes* cost) {
+  for (int k = 0; k < n; ++k) {
+    Eigen::Vector2d rv(r[0][k], r[1][k]);
+    Mat29 Fl;
+    Mat23 El;
+    for (int a = 0; a < 9; ++a) Fl(0, a) = F[a][k], Fl(1, a) = F[9 + a][k];
+    for (int a = 0; a < 3; ++a) El(0, a) = E[a][k], El(1, a) = E[3 + a][k];
+    (*cost)[k] = robust_correct(kernel, rv, &Fl, &El);
+    for (int a = 0; a < 9; ++a) F[a][k] = Fl(0, a), F[9 + a][k] = Fl(1, a);
+    for (int a = 0; a < 3; ++a) E[a][k] = El(0, a), E[3 + a][k] = El(1, a);
+    r[0][k] = rv[0], r[1][k] = rv[1];
+  }
+}
+
 // What the point pass reads and writes.
 struct PointPassData {
   const Eigen::Vector3d* points;
@@ -54,79 +74,87 @@ struct PointPassData {
   const RobustKernel* kernel;
 };
 
-// W (9×3, column-major, leading dimension ld) = (or +=) Fᵀ E for F 2×9 and E 2×3 row-major.
-template <bool kAccumulate>
-inline void write_w(double* __restrict W, int ld, const double* __restrict F, const double* __restrict E) {
-  for (int col = 0; col < 3; ++col) {
-    double* __restrict w = W + static_cast<std::ptrdiff_t>(col) * ld;
-    const double e0 = E[col], e1 = E[3 + col];
-    for (int a = 0; a < 9; ++a) {
-      const double v = F[a] * e0 + F[9 + a] * e1;
-      w[a] = kAccumulate ? w[a] + v : v;
-    }
-  }
-}
+// A camera frame in lanes (the camera of each lane's observation).
+struct LaneFrame {
+  Lanes R[9], t[3], f, k1, k2;
+};
 
-// Points [j_begin, j_end): per observation the fused kernel's r, E, F (F stays local: the camera
-// pass recomputes it); per point C_j, g_j, W_ij go into H, in the point's column, in order.
+// Points [j_begin, j_end): their observations in point order, then camera order, four at a
+// time in lanes (whatever points they belong to): the fused kernel's r, E, F (F stays local: the
+// camera pass recomputes it), the robust correction per lane, W_ij = F_ijᵀE_ij in lanes; then
+// per observation in order: W_ij into the point's column of H, C_j += E_ijᵀE_ij, g_j += E_ijᵀr_ij,
+// the cost. Every sum runs in the scalar code's order: the same bits as one observation at a time.
 // Returns Σ ρ(‖r‖²) in point order.
-// Cloned for AVX2 (selected at run time): contraction to FMA is off (-std=c++17) and no
-// reduction is reordered, so both clones give the same bits.
 __attribute__((target_clones("avx2", "default"))) double linearize_points(const PointPassData& d, int j_begin,
                                                                           int j_end) {
   double sum = 0.0;
-  for (int j = j_begin; j < j_end; ++j) {
-    const double* X = d.points[j].data();
-    const BalPointObservation* ob = d.obs + d.pt_ptr[j];
-    const BalPointObservation* oe = d.obs + d.pt_ptr[j + 1];
-    // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j.
-    double C[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, gj[3] = {0.0, 0.0, 0.0};
+  double C[6], gj[3];  // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j
+  int j = j_begin, previous_camera = -1;
+  auto reset = [&] {
+    for (double& v : C) v = 0.0;
+    for (double& v : gj) v = 0.0;
+    previous_camera = -1;
+  };
+  auto flush = [&] {
     const int ld = d.hessian->leading_dim(j);
-    int previous_camera = -1;
-    for (; ob != oe; ++ob) {
-      double F[18], r[2], E[6];
-      bal_linearize(d.frames[ob->camera], X, ob->z, r, E, F);
-      if (d.kernel) {
-        Eigen::Vector2d rv(r[0], r[1]);
-        Eigen::Map<Eigen::Matrix<double, 2, 9, Eigen::RowMajor>> Fm(F);
-        Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Em(E);
-        Mat29 Fl = Fm;
-        Mat23 El = Em;
-        sum += robust_correct(*d.kernel, rv, &Fl, &El);
-        Fm = Fl, Em = El, r[0] = rv[0], r[1] = rv[1];
-      } else {
-        sum += r[0] * r[0] + r[1] * r[1];
-      }
-      const double* e0 = E;
-      const double* e1 = E + 3;
-      C[0] += e0[0] * e0[0] + e1[0] * e1[0];
-      C[1] += e0[0] * e0[1] + e1[0] * e1[1];
-      C[2] += e0[0] * e0[2] + e1[0] * e1[2];
-      C[3] += e0[1] * e0[1] + e1[1] * e1[1];
-      C[4] += e0[1] * e0[2] + e1[1] * e1[2];
-      C[5] += e0[2] * e0[2] + e1[2] * e1[2];
-      gj[0] += e0[0] * r[0] + e1[0] * r[1];
-      gj[1] += e0[1] * r[0] + e1[1] * r[1];
-      gj[2] += e0[2] * r[0] + e1[2] * r[1];
-      // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
-      if (ob->camera != previous_camera) write_w<false>(d.H + ob->w_off, ld, F, E);
-      else write_w<true>(d.H + ob->w_off, ld, F, E);
-      previous_camera = ob->camera;
-    }
     double* Cj = d.H + d.hessian->block_offset(j, j);
     Cj[0] = C[0], Cj[1] = C[1], Cj[2] = C[2];
     Cj[ld] = C[1], Cj[ld + 1] = C[3], Cj[ld + 2] = C[4];
     Cj[2 * ld] = C[2], Cj[2 * ld + 1] = C[4], Cj[2 * ld + 2] = C[5];
     d.g[3 * j] = gj[0], d.g[3 * j + 1] = gj[1], d.g[3 * j + 2] = gj[2];
     d.diag[3 * j] = C[0], d.diag[3 * j + 1] = C[3], d.diag[3 * j + 2] = C[5];
+    ++j;
+    reset();
+  };
+  reset();
+  const int q_end = d.pt_ptr[j_end];
+  for (int q = d.pt_ptr[j_begin]; q < q_end; q += kLanes) {
+    const int n = std::min(kLanes, q_end - q);
+    LaneFrame c;
+    Lanes X[3], z[2], r[2], E[6], F[18];
+    for (int k = 0; k < kLanes; ++k) {
+      const BalPointObservation& o = d.obs[q + std::min(k, n - 1)];
+      const BalCameraFrame& f = d.frames[o.camera];
+      for (int a = 0; a < 9; ++a) c.R[a][k] = f.R[a];
+      for (int a = 0; a < 3; ++a) c.t[a][k] = f.t[a];
+      c.f[k] = f.f, c.k1[k] = f.k1, c.k2[k] = f.k2;
+      const double* P = d.points[o.point].data();
+      X[0][k] = P[0], X[1][k] = P[1], X[2][k] = P[2];
+      z[0][k] = o.z[0], z[1][k] = o.z[1];
+    }
+    bal_linearize(c, X, z, r, E, F);
+    Lanes cost = r[0] * r[0] + r[1] * r[1];
+    if (d.kernel) robust_correct_lanes(*d.kernel, n, r, E, F, &cost);
+    Lanes W[27];  // W_ij = F_ijᵀE_ij (9×3) column by column, the scalar expression per lane
+    for (int col = 0; col < 3; ++col)
+      for (int a = 0; a < 9; ++a) W[9 * col + a] = F[a] * E[col] + F[9 + a] * E[3 + col];
+    for (int k = 0; k < n; ++k) {
+      const BalPointObservation& o = d.obs[q + k];
+      while (q + k >= d.pt_ptr[j + 1]) flush();
+      sum += cost[k];
+      const double e0[3] = {E[0][k], E[1][k], E[2][k]}, e1[3] = {E[3][k], E[4][k], E[5][k]};
+      const double r0 = r[0][k], r1 = r[1][k];
+      C[0] += e0[0] * e0[0] + e1[0] * e1[0];
+      C[1] += e0[0] * e0[1] + e1[0] * e1[1];
+      C[2] += e0[0] * e0[2] + e1[0] * e1[2];
+      C[3] += e0[1] * e0[1] + e1[1] * e1[1];
+      C[4] += e0[1] * e0[2] + e1[1] * e1[2];
+      C[5] += e0[2] * e0[2] + e1[2] * e1[2];
+      gj[0] += e0[0] * r0 + e1[0] * r1;
+      gj[1] += e0[1] * r0 + e1[1] * r1;
+      gj[2] += e0[2] * r0 + e1[2] * r1;
+      // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
+      const bool accumulate = o.camera == previous_camera;
+      const int ld = d.hessian->leading_dim(j);
+      double* __restrict w = d.H + o.w_off;
+      for (int col = 0; col < 3; ++col, w += ld)
+        for (int a = 0; a < 9; ++a) w[a] = accumulate ? w[a] + W[9 * col + a][k] : W[9 * col + a][k];
+      previous_camera = o.camera;
+    }
   }
+  while (j < j_end) flush();  // the last point (and any without observations)
   return sum;
 }
-
-// Four observations of one camera, one per lane (GCC vector: AVX2 in the avx2 clone, two SSE2
-// halves in the default one; elementwise IEEE either way, so both clones give the same bits).
-typedef double Lanes __attribute__((vector_size(32)));
-constexpr int kLanes = 4;
 
 // What the camera pass reads and writes.
 struct CameraPassData {
@@ -167,16 +195,8 @@ __attribute__((target_clones("avx2", "default"))) void linearize_cameras(const C
       }
       bal_linearize(c, X, z, r, E, F);
       if (d.kernel) {
-        for (int k = 0; k < n; ++k) {
-          Eigen::Vector2d rv(r[0][k], r[1][k]);
-          Mat29 Fl;
-          Mat23 El;
-          for (int a = 0; a < 9; ++a) Fl(0, a) = F[a][k], Fl(1, a) = F[9 + a][k];
-          for (int a = 0; a < 3; ++a) El(0, a) = E[a][k], El(1, a) = E[3 + a][k];
-          robust_correct(*d.kernel, rv, &Fl, &El);
-          for (int a = 0; a < 9; ++a) F[a][k] = Fl(0, a), F[9 + a][k] = Fl(1, a);
-          r[0][k] = rv[0], r[1][k] = rv[1];
-        }
+        Lanes cost;
+        robust_correct_lanes(*d.kernel, n, r, E, F, &cost);
       }
       for (int k = n; k < kLanes; ++k) {
         r[0][k] = r[1][k] = 0.0;
@@ -253,7 +273,7 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
       const BalObservation& o = p.observations[k];
       PointObs& po = pt_obs_[pfill[o.point]++];
       po.w_off = hessian_.block_offset(np_ + o.camera, o.point);
-      po.camera = o.camera;
+      po.camera = o.camera, po.point = o.point;
       po.z[0] = o.pixel.x(), po.z[1] = o.pixel.y();
     }
   }

@@ -43,7 +43,7 @@ void copy_bal_state(const BalState& x, BalProblem& p);
 /// An observation as the point pass reads it (in point order, then camera order).
 struct BalPointObservation {
   std::ptrdiff_t w_off;  // offset of W_ij in H's values
-  int camera;
+  int camera, point;
   double z[2];
 };
 /// An observation as the camera pass reads it (in camera order, then point order).

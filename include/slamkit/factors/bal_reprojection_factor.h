@@ -115,8 +115,9 @@ struct BalProjectionT {
 };
 using BalProjection = BalProjectionT<double>;
 
-template <class T>
-inline BalProjectionT<T> bal_project(const BalCameraFrame& c, const T* X) {
+/// Cam: BalCameraFrame, or a frame whose fields are vectors too (lanes of different cameras).
+template <class Cam, class T>
+inline BalProjectionT<T> bal_project(const Cam& c, const T* X) {
   const T P0 = c.R[0] * X[0] + c.R[1] * X[1] + c.R[2] * X[2] + c.t[0];
   const T P1 = c.R[3] * X[0] + c.R[4] * X[1] + c.R[5] * X[2] + c.t[1];
   const T P2 = c.R[6] * X[0] + c.R[7] * X[1] + c.R[8] * X[2] + c.t[2];
@@ -140,9 +141,9 @@ inline void bal_residual(const BalCameraFrame& c, const double* X, const double*
 ///   A = ∂u/∂p = f d I + s p pᵀ (s = 2 f (k1 + 2 k2 n)),  T = ∂u/∂P = A ∂p/∂P = −(1/P_z) [A | A p],
 ///   E = ∂u/∂X = T R,  rotation columns of F: row k = X × E_k (= −E_k [X]×),  F's t columns = T,
 ///   F's intrinsic columns: d p, f n p, f n² p.
-/// Out: r (2), E (2×3 row-major), F (2×9 row-major, i.e. Fᵀ column-major 9×2). V as T above.
-template <class V>
-inline void bal_linearize(const BalCameraFrame& c, const V* X, const V* z, V* r, V* E, V* F) {
+/// Out: r (2), E (2×3 row-major), F (2×9 row-major, i.e. Fᵀ column-major 9×2). Cam, V as above.
+template <class Cam, class V>
+inline void bal_linearize(const Cam& c, const V* X, const V* z, V* r, V* E, V* F) {
   const BalProjectionT<V> q = bal_project(c, X);
   const V iz = q.iz, p0 = q.p0, p1 = q.p1, n = q.n, d = q.d, fd = q.fd;
   r[0] = fd * p0 - z[0], r[1] = fd * p1 - z[1];
