@@ -61,17 +61,20 @@ inline void robust_correct_lanes(const RobustKernel& kernel, int n, Lanes* r, La
   }
 }
 
-// What the point pass reads and writes.
-struct PointPassData {
+// What the point and camera passes read and write.
+struct PassData {
   const Eigen::Vector3d* points;
-  const BalPointObservation* obs;
-  const int* pt_ptr;
   const BalCameraFrame* frames;
+  const BalPointObservation* pt_obs;  // point order (the point pass)
+  const int* pt_ptr;
+  const BalCameraObservation* cam_obs;  // camera order (the camera pass)
+  const int* cam_ptr;
   double* H;
   double* g;
   double* diag;
   const BlockSparseMatrix* hessian;
   const RobustKernel* kernel;
+  int np;
 };
 
 // A camera frame in lanes (the camera of each lane's observation).
@@ -85,7 +88,7 @@ struct LaneFrame {
 // per observation in order: W_ij into the point's column of H, C_j += E_ijᵀE_ij, g_j += E_ijᵀr_ij,
 // the cost. Every sum runs in the scalar code's order: the same bits as one observation at a time.
 // Returns Σ ρ(‖r‖²) in point order.
-__attribute__((target_clones("avx2", "default"))) double linearize_points(const PointPassData& d, int j_begin,
+__attribute__((target_clones("avx2", "default"))) double linearize_points(const PassData& d, int j_begin,
                                                                           int j_end) {
   double sum = 0.0;
   double C[6], gj[3];  // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j
@@ -113,7 +116,7 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points(const 
     LaneFrame c;
     Lanes X[3], z[2], r[2], E[6], F[18];
     for (int k = 0; k < kLanes; ++k) {
-      const BalPointObservation& o = d.obs[q + std::min(k, n - 1)];
+      const BalPointObservation& o = d.pt_obs[q + std::min(k, n - 1)];
       const BalCameraFrame& f = d.frames[o.camera];
       for (int a = 0; a < 9; ++a) c.R[a][k] = f.R[a];
       for (int a = 0; a < 3; ++a) c.t[a][k] = f.t[a];
@@ -129,7 +132,7 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points(const 
     for (int col = 0; col < 3; ++col)
       for (int a = 0; a < 9; ++a) W[9 * col + a] = F[a] * E[col] + F[9 + a] * E[3 + col];
     for (int k = 0; k < n; ++k) {
-      const BalPointObservation& o = d.obs[q + k];
+      const BalPointObservation& o = d.pt_obs[q + k];
       while (q + k >= d.pt_ptr[j + 1]) flush();
       sum += cost[k];
       const double e0[3] = {E[0][k], E[1][k], E[2][k]}, e1[3] = {E[3][k], E[4][k], E[5][k]};
@@ -156,27 +159,13 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points(const 
   return sum;
 }
 
-// What the camera pass reads and writes.
-struct CameraPassData {
-  const Eigen::Vector3d* points;
-  const BalCameraObservation* obs;  // camera order
-  const int* cam_ptr;
-  const BalCameraFrame* frames;
-  double* H;
-  double* g;
-  double* diag;
-  const BlockSparseMatrix* hessian;
-  const RobustKernel* kernel;
-  int np;
-};
-
 // Cameras [i_begin, i_end): B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij. F_ij, r_ij are recomputed
 // here by the fused kernel (after the robust correction: the point pass's bits), four
 // observations at a time in lanes; nothing is stored per observation. The sums run per lane
 // over the camera's groups of four, then over the lanes 0..3: the order depends only on the
 // camera's observation count. Padded lanes (the last group) repeat its last observation and
 // contribute zeros.
-__attribute__((target_clones("avx2", "default"))) void linearize_cameras(const CameraPassData& d, int i_begin,
+__attribute__((target_clones("avx2", "default"))) void linearize_cameras(const PassData& d, int i_begin,
                                                                          int i_end) {
   for (int i = i_begin; i < i_end; ++i) {
     const BalCameraFrame& c = d.frames[i];
@@ -188,7 +177,7 @@ __attribute__((target_clones("avx2", "default"))) void linearize_cameras(const C
       const int n = std::min(kLanes, q_end - q);
       Lanes X[3], z[2], r[2], E[6], F[18];
       for (int k = 0; k < kLanes; ++k) {
-        const BalCameraObservation& o = d.obs[q + std::min(k, n - 1)];
+        const BalCameraObservation& o = d.cam_obs[q + std::min(k, n - 1)];
         const double* P = d.points[o.point].data();
         X[0][k] = P[0], X[1][k] = P[1], X[2][k] = P[2];
         z[0][k] = o.z[0], z[1][k] = o.z[1];
@@ -317,8 +306,8 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
           const int j_begin = static_cast<int>(c) * kChunk;
           const int j_end = std::min<int>(np_, j_begin + kChunk);
           if (kJacobians) {
-            const PointPassData d{x.points.data(), pt_obs_.data(), pt_ptr_.data(), frames_.data(),
-                                  H, g_.data(), diag_.data(), &hessian_, kernel};
+            const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(),
+                             cam_ptr_.data(), H, g_.data(), diag_.data(), &hessian_, kernel, np_};
             sum = linearize_points(d, j_begin, j_end);
           } else {
             for (int j = j_begin; j < j_end; ++j) {
@@ -357,8 +346,8 @@ double BalNormalEquations::linearize(const BalState& x) {
   camera_frames(x);
   // Points: C_j, g_j, W_ij and the cost; then cameras: B_i, g_i (F_ij recomputed in lanes).
   const double total = point_pass<true>(x, &chunk_cost_);
-  const CameraPassData d{x.points.data(), cam_obs_.data(), cam_ptr_.data(), frames_.data(),
-                         hessian_.values().data(), g_.data(), diag_.data(), &hessian_, kernel_.get(), np_};
+  const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(), cam_ptr_.data(),
+                   hessian_.values().data(), g_.data(), diag_.data(), &hessian_, kernel_.get(), np_};
   pool_.parallel_for(
       nc_, [&](std::size_t b, std::size_t e) { linearize_cameras(d, static_cast<int>(b), static_cast<int>(e)); }, 1);
   return total;
