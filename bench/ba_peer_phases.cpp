@@ -10,9 +10,11 @@
 //   as a whole (the candidate's linearization, which gives its cost, damp, factorize with rhs,
 //   solve, predicted reduction, retract) alternate, bare, iteration, bare, ... on the same
 //   solver object; per pair the ratio iteration / bare; reported: the median of the ratios and
-//   the medians of each. Inside the iteration each phase is timed too ("in context"), so
-//   iteration − Σ phases (the unexplained part) is measured per rep, not inferred from
-//   separate runs. Every phase also reports its minor page faults (getrusage, this thread).
+//   the medians of each. Inside the iteration each phase is timed too ("in context"): the
+//   phases cover the iteration ("unexplained" = iteration − Σ timed phases, the time between
+//   the probes, ≈ 0), so an excess shows up in a named phase, and in-context against isolated
+//   medians shows what the iteration's memory state costs each phase. Every phase also reports
+//   its minor page faults (getrusage, this thread).
 // Then (unless --lm 0) full LM runs, 1 thread: schur-dense, schur-cholesky, and schur-pcg under
 // the old PCG stopping rule (relative residual 0.1 only) and the current one (Nash-Sofer 0.1):
 // iterations, linear solves, CG iterations, final cost, CPU seconds.
