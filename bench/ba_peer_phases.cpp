@@ -7,8 +7,8 @@
 //   (the LM's call: the reduced rhs formed alongside S), solve (S⁻¹ or PCG, back-substitution),
 //   quadratic (δᵀHδ), retract.
 //   Paired: bare (factorize(H), + one plain solve for PCG) and one accepted LM iteration timed
-//   as a whole (the candidate's linearization, which gives its cost, damp, factorize with rhs,
-//   solve, predicted reduction, retract) alternate, bare, iteration, bare, ... on the same
+//   as a whole (damp, factorize with rhs, reduced solve, back-substitution + retract + the
+//   candidate's linearization in one point pass, predicted reduction) alternate, bare, iteration, bare, ... on the same
 //   solver object; per pair the ratio iteration / bare; reported: the median of the ratios and
 //   the medians of each. Inside the iteration each phase is timed too ("in context"): the
 //   phases cover the iteration ("unexplained" = iteration − Σ timed phases, the time between
@@ -140,9 +140,10 @@ int main(int argc, char** argv) {
       iso["quadratic"] = measure([&] { ne.quadratic(step); }, reps);
       iso["retract"] = measure([&] { ne.retract(x, step.data(), y); }, reps);
       // Paired: bare, iteration, bare, iteration, ... The iteration is the LM loop's (a run of
-      // accepted steps): the candidate's linearization (the linearization at x stands for it,
-      // the same work), damp, factorize with the rhs, solve, predicted reduction
-      // (−gᵀδ + λδᵀDδ + x_kᵀr_k, no pass over H), retract; each phase timed in context.
+      // accepted steps): damp, factorize with the rhs, the reduced solve, then one pass over the
+      // points that back-substitutes, retracts and linearizes the candidate (its cost comes with
+      // it), the predicted reduction (−gᵀδ + λδᵀDδ + x_kᵀr_k, no pass over H); each phase timed
+      // in context. After each pair H is re-linearized at x, untimed.
       Phase bare, iteration;
       std::map<std::string, Phase> ctx;
       std::vector<double> ratios, unexplained;
@@ -152,32 +153,31 @@ int main(int argc, char** argv) {
         if (pcg) solver.solve(rhs.data(), step.data());
         const Probe b1 = probe();
         bare.add(b0, b1);
-        Probe t[7];
+        Probe t[6];
         t[0] = probe();
-        ne.linearize(x);
-        t[1] = probe();
         ne.set_diagonal_damping(lambda, D, false);
         rhs = -ne.gradient();
-        t[2] = probe();
+        t[1] = probe();
         solver.factorize(ne.hessian(), rhs.data(), shift);
+        t[2] = probe();
+        solver.solve_factored_kept(step.data());
         t[3] = probe();
-        solver.solve_factored_rhs(step.data());
+        ne.retract_and_linearize(x, step.data(), y, [&](int b, int e, double* d) { solver.back_substitute(b, e, d); });
         t[4] = probe();
         volatile double predicted = rhs.dot(step) + lambda * (D.array() * step.array().square()).sum() +
                                     solver.last_residual_dot_solution();
         (void)predicted;
         t[5] = probe();
-        ne.retract(x, step.data(), y);
-        t[6] = probe();
-        iteration.add(t[0], t[6]);
-        const char* names[6] = {"linearize", "damp", "factorize_with_rhs", "solve", "predicted", "retract"};
+        iteration.add(t[0], t[5]);
+        const char* names[5] = {"damp", "factorize_with_rhs", "solve_kept", "backsub_retract_linearize", "predicted"};
         double sum = 0.0;
-        for (int k = 0; k < 6; ++k) {
+        for (int k = 0; k < 5; ++k) {
           ctx[names[k]].add(t[k], t[k + 1]);
           sum += t[k + 1].cpu_s - t[k].cpu_s;
         }
-        unexplained.push_back((t[6].cpu_s - t[0].cpu_s) - sum);
-        ratios.push_back((t[6].cpu_s - t[0].cpu_s) / (b1.cpu_s - b0.cpu_s));
+        unexplained.push_back((t[5].cpu_s - t[0].cpu_s) - sum);
+        ratios.push_back((t[5].cpu_s - t[0].cpu_s) / (b1.cpu_s - b0.cpu_s));
+        ne.linearize(x);  // untimed: H, g back at x for the next pair
       }
       ne.clear_damping();
       const double ratio = median(ratios);
@@ -185,11 +185,12 @@ int main(int argc, char** argv) {
                   to_string(m), 1e3 * lin.med(), 1e9 * lin.med() / p.num_observations(), 1e3 * iso["factorize"].med(),
                   1e3 * iso["factorize_with_rhs"].med(), 1e3 * iso["solve"].med(),
                   pcg ? (" solve plain " + std::to_string(1e3 * iso["solve_plain"].med())).c_str() : "");
-      std::printf("  %-15s in context: linearize %7.2f  damp %5.2f  factorize with rhs %7.2f  solve %6.2f  "
-                  "predicted %5.2f  retract %5.2f  unexplained %5.2f  (faults: lin %.0f fact %.0f)\n",
-                  "", 1e3 * ctx["linearize"].med(), 1e3 * ctx["damp"].med(), 1e3 * ctx["factorize_with_rhs"].med(),
-                  1e3 * ctx["solve"].med(), 1e3 * ctx["predicted"].med(), 1e3 * ctx["retract"].med(),
-                  1e3 * median(unexplained), median(ctx["linearize"].faults), median(ctx["factorize_with_rhs"].faults));
+      std::printf("  %-15s in context: damp %5.2f  factorize with rhs %7.2f  solve kept %6.2f  back-sub+retract+"
+                  "linearize %7.2f  predicted %5.2f  unexplained %5.2f  (faults: lin %.0f fact %.0f)\n",
+                  "", 1e3 * ctx["damp"].med(), 1e3 * ctx["factorize_with_rhs"].med(), 1e3 * ctx["solve_kept"].med(),
+                  1e3 * ctx["backsub_retract_linearize"].med(), 1e3 * ctx["predicted"].med(),
+                  1e3 * median(unexplained), median(ctx["backsub_retract_linearize"].faults),
+                  median(ctx["factorize_with_rhs"].faults));
       std::printf("  %-15s paired: iteration %7.2f  bare %7.2f  median ratio %.2f (ratio of medians %.2f, range %.2f-%.2f)\n",
                   "", 1e3 * iteration.med(), 1e3 * bare.med(), ratio, iteration.med() / bare.med(),
                   *std::min_element(ratios.begin(), ratios.end()), *std::max_element(ratios.begin(), ratios.end()));

@@ -10,6 +10,7 @@ namespace slamkit {
 namespace {
 
 constexpr int kChunk = 256;  // points per cost chunk (fixed: the summation order)
+constexpr int kSub = 16;     // points per back-substitution step in retract_and_linearize
 
 using Mat29 = Eigen::Matrix<double, 2, 9>;
 using Mat23 = Eigen::Matrix<double, 2, 3>;
@@ -87,10 +88,9 @@ struct LaneFrame {
 // camera pass recomputes it), the robust correction per lane, W_ij = F_ijᵀE_ij in lanes; then
 // per observation in order: W_ij into the point's column of H, C_j += E_ijᵀE_ij, g_j += E_ijᵀr_ij,
 // the cost. Every sum runs in the scalar code's order: the same bits as one observation at a time.
-// Returns Σ ρ(‖r‖²) in point order.
+// Returns sum + Σ ρ(‖r‖²) in point order.
 __attribute__((target_clones("avx2", "default"))) double linearize_points(const PassData& d, int j_begin,
-                                                                          int j_end) {
-  double sum = 0.0;
+                                                                          int j_end, double sum) {
   double C[6], gj[3];  // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j
   int j = j_begin, previous_camera = -1;
   auto reset = [&] {
@@ -294,7 +294,8 @@ void BalNormalEquations::camera_frames(const BalState& x) const {
 // Per point j (chunks of kChunk points), its observations in camera order: their residuals and
 // ρ; with Jacobians also C_j, g_j and W_ij (linearize_points). The frames must be formed.
 template <bool kJacobians>
-double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* chunk_cost) {
+double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* chunk_cost,
+                                      const std::function<void(int, int)>* before_chunk) {
   const int nchunks = static_cast<int>(chunk_cost->size());
   double* H = hessian_.values().data();
   const RobustKernel* kernel = kernel_.get();
@@ -305,10 +306,18 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
           double sum = 0.0;
           const int j_begin = static_cast<int>(c) * kChunk;
           const int j_end = std::min<int>(np_, j_begin + kChunk);
+          if (before_chunk && !kJacobians) (*before_chunk)(j_begin, j_end);
           if (kJacobians) {
             const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(),
                              cam_ptr_.data(), H, g_.data(), diag_.data(), &hessian_, kernel, np_};
-            sum = linearize_points(d, j_begin, j_end);
+            // With before_chunk, sub-chunks of kSub points: its reads of their H columns are
+            // still in L1 when they are overwritten (the cost is summed in the same order).
+            const int sub = before_chunk ? kSub : kChunk;
+            for (int jb = j_begin; jb < j_end; jb += sub) {
+              const int je = std::min(j_end, jb + sub);
+              if (before_chunk) (*before_chunk)(jb, je);
+              sum = linearize_points(d, jb, je, sum);
+            }
           } else {
             for (int j = j_begin; j < j_end; ++j) {
               const double* X = x.points[j].data();
@@ -346,11 +355,31 @@ double BalNormalEquations::linearize(const BalState& x) {
   camera_frames(x);
   // Points: C_j, g_j, W_ij and the cost; then cameras: B_i, g_i (F_ij recomputed in lanes).
   const double total = point_pass<true>(x, &chunk_cost_);
+  linearize_camera_blocks(x);
+  return total;
+}
+
+double BalNormalEquations::retract_and_linearize(const BalState& x, double* step, BalState& out,
+                                                 const std::function<void(int, int, double*)>& back_substitute) {
+  damped_ = false;
+  out.cameras.resize(nc_), out.points.resize(np_);
+  retract_cameras(x, step, out);
+  camera_frames(out);
+  // Per chunk: δ_j by back-substitution (reads W_·j, C_j⁻¹), X_j ⊞ δ_j, then W_·j, C_j, g_j at out.
+  const std::function<void(int, int)> before = [&](int j_begin, int j_end) {
+    back_substitute(j_begin, j_end, step);
+    for (int j = j_begin; j < j_end; ++j) out.points[j] = x.points[j] + Eigen::Map<const Eigen::Vector3d>(step + 3 * j);
+  };
+  const double total = point_pass<true>(out, &chunk_cost_, &before);
+  linearize_camera_blocks(out);
+  return total;
+}
+
+void BalNormalEquations::linearize_camera_blocks(const BalState& x) {
   const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(), cam_ptr_.data(),
                    hessian_.values().data(), g_.data(), diag_.data(), &hessian_, kernel_.get(), np_};
   pool_.parallel_for(
       nc_, [&](std::size_t b, std::size_t e) { linearize_cameras(d, static_cast<int>(b), static_cast<int>(e)); }, 1);
-  return total;
 }
 
 int BalNormalEquations::first_nonfinite_observation(const BalState& x) const {
@@ -440,6 +469,10 @@ void BalNormalEquations::retract(const BalState& x, const double* step, BalState
   pool_.parallel_for(np_, [&](std::size_t b, std::size_t e) {
     for (std::size_t j = b; j < e; ++j) out.points[j] = x.points[j] + Eigen::Map<const Eigen::Vector3d>(step + 3 * j);
   });
+  retract_cameras(x, step, out);
+}
+
+void BalNormalEquations::retract_cameras(const BalState& x, const double* step, BalState& out) const {
   const double* sc = step + 3 * static_cast<std::ptrdiff_t>(np_);
   pool_.parallel_for(
       nc_, [&](std::size_t b, std::size_t e) {

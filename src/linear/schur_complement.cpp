@@ -79,6 +79,7 @@ struct SchurComplementSolver::Impl {
   std::vector<std::ptrdiff_t> precond_off;
   Eigen::VectorXd ye, rk, xk, be, bk, work_e, pr, pz, pp, pq;
   bool rhs_formed = false;  // rk (and be, bk) hold the rhs of the b given to factorize(A, b)
+  bool kept_solved = false;  // xk solves the last factorization's reduced system
 
   // be = b_e (packed), bk = b_k (S numbering).
   void gather_rhs(const double* b) {
@@ -229,7 +230,13 @@ struct SchurComplementSolver::Impl {
   // out_e = C_e⁻¹ (in_e − Σ_k E_keᵀ v_k) (v may be null: no kept part); in/out over eliminated storage.
   template <int KD, int ED>
   void eliminated_solve(const ThreadPool& pool, const double* in_e, const double* v, double* out_e) {
-    pool.parallel_for(ne, [&](std::size_t b, std::size_t end) {
+    pool.parallel_for(ne, [&](std::size_t b, std::size_t end) { eliminated_solve_range<KD, ED>(b, end, in_e, v, out_e); });
+  }
+
+  // eliminated_solve on e in [b, end), serially: reads only those e's blocks of H and C_e⁻¹.
+  template <int KD, int ED>
+  void eliminated_solve_range(std::size_t b, std::size_t end, const double* in_e, const double* v, double* out_e) {
+    {
       for (std::size_t e = b; e < end; ++e) {
         const int de = ed[e], ld = e_diag_ld[e];
         const std::ptrdiff_t o = static_cast<std::ptrdiff_t>(e) * de;  // start of e in eliminated storage
@@ -243,7 +250,7 @@ struct SchurComplementSolver::Impl {
           }
         MVec<ED>(out_e + o, de).noalias() = CMap<ED, ED>(cinv.data() + cinv_off[e], de, de, Eigen::OuterStride<>(de)) * t;
       }
-    });
+    }
   }
 
   // out_s = sign_b · (B v)_s − Σ_e E_se y_e (+ base_s); y over eliminated storage.
@@ -488,7 +495,7 @@ bool SchurComplementSolver::factorize(const BlockSparseMatrix& A, const double* 
   Impl& m = *impl_;
   if (m.A == nullptr || A.rows() != m.A->rows()) throw std::logic_error("SchurComplementSolver::factorize before analyze");
   m.A = &A;
-  m.rhs_formed = false;
+  m.rhs_formed = m.kept_solved = false;
   const double t0 = now_s();
   std::vector<char> ok(static_cast<std::size_t>(m.ne) + 1, 1);
   bool good = true;
@@ -553,6 +560,31 @@ void SchurComplementSolver::solve(const double* b, double* x) {
 
 void SchurComplementSolver::solve_factored_rhs(double* x) {
   Impl& m = *impl_;
+  solve_factored_kept(x);
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    // Back-substitution x_e = C_e⁻¹ (b_e − Σ_k E_keᵀ x_k), one pass in the E blocks' storage order.
+    m.template eliminated_solve<kd, edim>(pool_, m.be.data(), m.xk.data(), m.ye.data());
+  });
+  const int de = m.ne > 0 ? m.ed[0] : 0;
+  for (int e = 0; e < m.ne; ++e)
+    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a];
+}
+
+void SchurComplementSolver::back_substitute(int e_begin, int e_end, double* x) {
+  Impl& m = *impl_;
+  if (!m.kept_solved) throw std::logic_error("SchurComplementSolver::back_substitute without solve_factored_kept");
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    m.template eliminated_solve_range<kd, edim>(e_begin, e_end, m.be.data(), m.xk.data(), m.ye.data());
+  });
+  const int de = m.ne > 0 ? m.ed[0] : 0;
+  for (int e = e_begin; e < e_end; ++e)
+    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a];
+}
+
+void SchurComplementSolver::solve_factored_kept(double* x) {
+  Impl& m = *impl_;
   if (!m.rhs_formed) throw std::logic_error("SchurComplementSolver::solve_factored_rhs without a factorize(A, b)");
   last_pcg_iterations_ = 0;
   last_residual_dot_solution_ = 0.0;
@@ -598,12 +630,8 @@ void SchurComplementSolver::solve_factored_rhs(double* x) {
       total_pcg_iterations_ += last_pcg_iterations_;
       last_residual_dot_solution_ = m.xk.dot(m.pr);  // pr = rhs − S x_k (CG's recurrence)
     }
-    // Back-substitution x_e = C_e⁻¹ (b_e − Σ_k E_keᵀ x_k), one pass in the E blocks' storage order.
-    m.template eliminated_solve<kd, edim>(pool_, m.be.data(), m.xk.data(), m.ye.data());
   });
-  const int de = m.ne > 0 ? m.ed[0] : 0;
-  for (int e = 0; e < m.ne; ++e)
-    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a];
+  m.kept_solved = true;
   for (int s = 0; s < m.nk; ++s)
     for (int a = 0; a < m.kd[s]; ++a) x[m.k_start[s] + a] = m.xk[m.s_start[s] + a];
 }

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -67,6 +68,14 @@ class BalNormalEquations {
   double cost(const BalState& x) const;
   /// H, g and diag(H) at x (undamped); returns the cost at x.
   double linearize(const BalState& x);
+  /// retract(x, δ, out) then linearize(out) in one pass over the points: δ's camera rows are
+  /// given; for each chunk of points [j_begin, j_end), back_substitute(j_begin, j_end, δ) first
+  /// writes their rows of δ (it may read H's columns of those points: they are overwritten only
+  /// after it returns; SchurComplementSolver::back_substitute), then the points are retracted and
+  /// their observations linearized at out while their W blocks are still in cache. The same bits
+  /// as the three steps apart; returns the cost at out.
+  double retract_and_linearize(const BalState& x, double* step, BalState& out,
+                               const std::function<void(int, int, double*)>& back_substitute);
   /// Index of the first observation whose residual is not finite at x (−1 if none).
   int first_nonfinite_observation(const BalState& x) const;
 
@@ -92,7 +101,10 @@ class BalNormalEquations {
 
  private:
   template <bool kJacobians>
-  double point_pass(const BalState& x, std::vector<double>* chunk_cost);
+  double point_pass(const BalState& x, std::vector<double>* chunk_cost,
+                    const std::function<void(int, int)>* before_chunk = nullptr);
+  void linearize_camera_blocks(const BalState& x);
+  void retract_cameras(const BalState& x, const double* step, BalState& out) const;
   void camera_frames(const BalState& x) const;
   using PointObs = BalPointObservation;
 
