@@ -86,50 +86,69 @@ Summary optimize_bal_levenberg_marquardt(const BalProblem& p, BalState& values, 
       // Step: factorize H + λD (more damping while it is not positive definite), solve.
       const double t_lin = now_s();
       int solves = 0;
-      D = options.lm_diagonal_scaling ? Eigen::VectorXd(ne.hessian_diagonal().cwiseMax(1e-6).cwiseMin(1e32))
-                                      : Eigen::VectorXd::Ones(ne.dim());
+      // In place (D keeps its allocation from one iteration to the next).
+      if (options.lm_diagonal_scaling) D = ne.hessian_diagonal().cwiseMax(1e-6).cwiseMin(1e32);
+      else D.setOnes(ne.dim());
       bool factored = false;
       rhs = -ne.gradient();
       while (true) {
-        ne.set_diagonal_damping(lambda * D);
+        ne.set_diagonal_damping(lambda, D, false);  // the points' λD is added by the solver to C_j
         ++solves;
-        if (solver.factorize(ne.hessian(), rhs.data())) {  // the reduced rhs is formed with S
+        if (solver.factorize(ne.hessian(), rhs.data(), ne.damping().data())) {  // the reduced rhs is formed with S
           factored = true;
           break;
         }
         lambda *= nu, nu *= 2.0;
         if (lambda > options.lm_max_lambda) break;
       }
-      if (factored) solver.solve_factored_rhs(step.data());
+      // After an accepted step the candidate is linearized right away (its cost comes with it, and
+      // if it is accepted its H and g are the next iteration's: one pass over the observations per
+      // iteration); a rejection then re-linearizes x. After a rejection (rejections come in runs)
+      // the candidate's cost alone is evaluated. Either way H, g at x are the same bits. When it
+      // is linearized, the points' back-substitution and retraction run inside its point pass
+      // (retract_and_linearize: W_·j is read once, while in cache, then overwritten).
+      const bool linearize_candidate = linearize_candidates;
+      if (factored) {
+        if (linearize_candidate) solver.solve_factored_kept(step.data());
+        else solver.solve_factored_rhs(step.data());
+      }
       it.linear_solves = solves;
       it.linear_solver_time_s = now_s() - t_lin;
       s.linear_solves += solves;
       s.time_linear_solver_s += it.linear_solver_time_s;
-      if (!factored || !step.allFinite()) {
+      auto linear_failure = [&] {
         finish(Termination::kLinearSolverFailure,
                "the normal equations could not be factorized even with large damping (rank-deficient problem?)");
+      };
+      const int nk = ne.dim() - 3 * ne.num_points();  // the cameras' rows (the points' come later if fused)
+      if (!factored || !(linearize_candidate ? step.tail(nk) : step).allFinite()) {
+        linear_failure();
         break;
+      }
+      t0 = now_s();
+      double new_cost = 0.0;
+      if (linearize_candidate) {
+        new_cost = ne.retract_and_linearize(x, step.data(), candidate, [&](int j_begin, int j_end, double* d) {
+          solver.back_substitute(j_begin, j_end, d);
+        });
+        it.assemble_time_s = now_s() - t0;
+        s.time_linearize_s += it.assemble_time_s;
+        if (!step.allFinite()) {
+          linear_failure();
+          break;
+        }
+      } else {
+        ne.retract(x, step.data(), candidate);
+        new_cost = ne.cost(candidate);
+        it.evaluate_time_s = now_s() - t0;
+        s.time_evaluate_s += it.evaluate_time_s;
       }
       // Model reduction −2gᵀδ − δᵀHδ. With the points back-substituted exactly,
       // δᵀ(H + λD)δ = −gᵀδ − δ_kᵀr_k (r_k = the reduced residual, 0 for a direct solve, CG's for
       // PCG), so −2gᵀδ − δᵀHδ = −gᵀδ + λδᵀDδ + δ_kᵀr_k: no pass over the blocks.
-      const double predicted = -ne.gradient().dot(step) + lambda * (D.array() * step.array().square()).sum() +
+      // (rhs = −g at x: g itself may already be the candidate's; the same bits as −gᵀδ.)
+      const double predicted = rhs.dot(step) + lambda * (D.array() * step.array().square()).sum() +
                                solver.last_residual_dot_solution();
-      ne.retract(x, step.data(), candidate);
-      // After an accepted step the candidate is linearized right away (its cost comes with it, and
-      // if it is accepted its H and g are the next iteration's: one pass over the observations per
-      // iteration); a rejection then re-linearizes x. After a rejection (rejections come in runs)
-      // the candidate's cost alone is evaluated. Either way H, g at x are the same bits.
-      const bool linearize_candidate = linearize_candidates;
-      t0 = now_s();
-      const double new_cost = linearize_candidate ? ne.linearize(candidate) : ne.cost(candidate);
-      if (linearize_candidate) {
-        it.assemble_time_s = now_s() - t0;
-        s.time_linearize_s += it.assemble_time_s;
-      } else {
-        it.evaluate_time_s = now_s() - t0;
-        s.time_evaluate_s += it.evaluate_time_s;
-      }
       const double actual = cost - new_cost;
       double rho = predicted > 0.0 ? actual / predicted : (actual > 0.0 ? 1.0 : -1.0);
       if (!std::isfinite(new_cost)) rho = -std::numeric_limits<double>::infinity();

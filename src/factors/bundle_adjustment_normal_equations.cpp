@@ -10,14 +10,10 @@ namespace slamkit {
 namespace {
 
 constexpr int kChunk = 256;  // points per cost chunk (fixed: the summation order)
-constexpr int kFt = 18;      // doubles per observation in ft_: F_ijᵀ (9×2, col-major)
+constexpr int kSub = 16;     // points per back-substitution step in retract_and_linearize
 
 using Mat29 = Eigen::Matrix<double, 2, 9>;
 using Mat23 = Eigen::Matrix<double, 2, 3>;
-using Mat93 = Eigen::Matrix<double, 9, 3>;
-using Mat99 = Eigen::Matrix<double, 9, 9>;
-template <int R, int C>
-using MapS = Eigen::Map<Eigen::Matrix<double, R, C>, 0, Eigen::OuterStride<>>;
 template <int R, int C>
 using CMapS = Eigen::Map<const Eigen::Matrix<double, R, C>, 0, Eigen::OuterStride<>>;
 
@@ -46,89 +42,171 @@ double robust_correct(const RobustKernel& k, Eigen::Vector2d& r, Mat29* F, Mat23
   return rho[0];
 }
 
-// What the point pass reads and writes.
-struct PointPassData {
+// Four observations, one per lane (GCC vector: AVX2 in the avx2 clones, two SSE2 halves in the
+// default ones; elementwise IEEE either way, so both clones give the same bits).
+typedef double Lanes __attribute__((vector_size(32)));
+constexpr int kLanes = 4;
+
+// robust_correct on lanes [0, n) of r, E, F (each lane as the scalar code does it); cost ← ρ.
+inline void robust_correct_lanes(const RobustKernel& kernel, int n, Lanes* r, Lanes* E, Lanes* F, Lanes* cost) {
+  for (int k = 0; k < n; ++k) {
+    Eigen::Vector2d rv(r[0][k], r[1][k]);
+    Mat29 Fl;
+    Mat23 El;
+    for (int a = 0; a < 9; ++a) Fl(0, a) = F[a][k], Fl(1, a) = F[9 + a][k];
+    for (int a = 0; a < 3; ++a) El(0, a) = E[a][k], El(1, a) = E[3 + a][k];
+    (*cost)[k] = robust_correct(kernel, rv, &Fl, &El);
+    for (int a = 0; a < 9; ++a) F[a][k] = Fl(0, a), F[9 + a][k] = Fl(1, a);
+    for (int a = 0; a < 3; ++a) E[a][k] = El(0, a), E[3 + a][k] = El(1, a);
+    r[0][k] = rv[0], r[1][k] = rv[1];
+  }
+}
+
+// What the point and camera passes read and write.
+struct PassData {
   const Eigen::Vector3d* points;
-  const BalPointObservation* obs;
-  const int* pt_ptr;
   const BalCameraFrame* frames;
-  double* ft;     // F_ij (2×9 row-major) per camera-order slot
-  double* r_cam;  // r_ij per camera-order slot
+  const BalPointObservation* pt_obs;  // point order (the point pass)
+  const int* pt_ptr;
+  const BalCameraObservation* cam_obs;  // camera order (the camera pass)
+  const int* cam_ptr;
   double* H;
   double* g;
   double* diag;
   const BlockSparseMatrix* hessian;
   const RobustKernel* kernel;
+  int np;
 };
 
-// W (9×3, column-major, leading dimension ld) = (or +=) Fᵀ E for F 2×9 and E 2×3 row-major.
-template <bool kAccumulate>
-inline void write_w(double* __restrict W, int ld, const double* __restrict F, const double* __restrict E) {
-  for (int col = 0; col < 3; ++col) {
-    double* __restrict w = W + static_cast<std::ptrdiff_t>(col) * ld;
-    const double e0 = E[col], e1 = E[3 + col];
-    for (int a = 0; a < 9; ++a) {
-      const double v = F[a] * e0 + F[9 + a] * e1;
-      w[a] = kAccumulate ? w[a] + v : v;
-    }
-  }
-}
+// A camera frame in lanes (the camera of each lane's observation).
+struct LaneFrame {
+  Lanes R[9], t[3], f, k1, k2;
+};
 
-// Points [j_begin, j_end): per observation the fused kernel writes F_ij, r_ij at its
-// camera-order slot; per point C_j, g_j, W_ij go into H. Returns Σ ρ(‖r‖²) in point order.
-// Cloned for AVX2 (selected at run time): contraction to FMA is off (-std=c++17) and no
-// reduction is reordered, so both clones give the same bits.
-__attribute__((target_clones("avx2", "default"))) double linearize_points(const PointPassData& d, int j_begin,
-                                                                          int j_end) {
-  double sum = 0.0;
-  for (int j = j_begin; j < j_end; ++j) {
-    const double* X = d.points[j].data();
-    const BalPointObservation* ob = d.obs + d.pt_ptr[j];
-    const BalPointObservation* oe = d.obs + d.pt_ptr[j + 1];
-    // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j.
-    double C[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, gj[3] = {0.0, 0.0, 0.0};
+// Points [j_begin, j_end): their observations in point order, then camera order, four at a
+// time in lanes (whatever points they belong to): the fused kernel's r, E, F (F stays local: the
+// camera pass recomputes it), the robust correction per lane, W_ij = F_ijᵀE_ij in lanes; then
+// per observation in order: W_ij into the point's column of H, C_j += E_ijᵀE_ij, g_j += E_ijᵀr_ij,
+// the cost. Every sum runs in the scalar code's order: the same bits as one observation at a time.
+// Returns sum + Σ ρ(‖r‖²) in point order.
+__attribute__((target_clones("avx2", "default"))) double linearize_points(const PassData& d, int j_begin,
+                                                                          int j_end, double sum) {
+  double C[6], gj[3];  // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j
+  int j = j_begin, previous_camera = -1;
+  auto reset = [&] {
+    for (double& v : C) v = 0.0;
+    for (double& v : gj) v = 0.0;
+    previous_camera = -1;
+  };
+  auto flush = [&] {
     const int ld = d.hessian->leading_dim(j);
-    int previous_camera = -1;
-    for (; ob != oe; ++ob) {
-      double* F = d.ft + static_cast<std::size_t>(ob->slot) * kFt;
-      double* r = d.r_cam + 2 * static_cast<std::size_t>(ob->slot);
-      double E[6];
-      bal_linearize(d.frames[ob->camera], X, ob->z, r, E, F);
-      if (d.kernel) {
-        Eigen::Vector2d rv(r[0], r[1]);
-        Eigen::Map<Eigen::Matrix<double, 2, 9, Eigen::RowMajor>> Fm(F);
-        Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Em(E);
-        Mat29 Fl = Fm;
-        Mat23 El = Em;
-        sum += robust_correct(*d.kernel, rv, &Fl, &El);
-        Fm = Fl, Em = El, r[0] = rv[0], r[1] = rv[1];
-      } else {
-        sum += r[0] * r[0] + r[1] * r[1];
-      }
-      const double* e0 = E;
-      const double* e1 = E + 3;
-      C[0] += e0[0] * e0[0] + e1[0] * e1[0];
-      C[1] += e0[0] * e0[1] + e1[0] * e1[1];
-      C[2] += e0[0] * e0[2] + e1[0] * e1[2];
-      C[3] += e0[1] * e0[1] + e1[1] * e1[1];
-      C[4] += e0[1] * e0[2] + e1[1] * e1[2];
-      C[5] += e0[2] * e0[2] + e1[2] * e1[2];
-      gj[0] += e0[0] * r[0] + e1[0] * r[1];
-      gj[1] += e0[1] * r[0] + e1[1] * r[1];
-      gj[2] += e0[2] * r[0] + e1[2] * r[1];
-      // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
-      if (ob->camera != previous_camera) write_w<false>(d.H + ob->w_off, ld, F, E);
-      else write_w<true>(d.H + ob->w_off, ld, F, E);
-      previous_camera = ob->camera;
-    }
     double* Cj = d.H + d.hessian->block_offset(j, j);
     Cj[0] = C[0], Cj[1] = C[1], Cj[2] = C[2];
     Cj[ld] = C[1], Cj[ld + 1] = C[3], Cj[ld + 2] = C[4];
     Cj[2 * ld] = C[2], Cj[2 * ld + 1] = C[4], Cj[2 * ld + 2] = C[5];
     d.g[3 * j] = gj[0], d.g[3 * j + 1] = gj[1], d.g[3 * j + 2] = gj[2];
     d.diag[3 * j] = C[0], d.diag[3 * j + 1] = C[3], d.diag[3 * j + 2] = C[5];
+    ++j;
+    reset();
+  };
+  reset();
+  const int q_end = d.pt_ptr[j_end];
+  for (int q = d.pt_ptr[j_begin]; q < q_end; q += kLanes) {
+    const int n = std::min(kLanes, q_end - q);
+    LaneFrame c;
+    Lanes X[3], z[2], r[2], E[6], F[18];
+    for (int k = 0; k < kLanes; ++k) {
+      const BalPointObservation& o = d.pt_obs[q + std::min(k, n - 1)];
+      const BalCameraFrame& f = d.frames[o.camera];
+      for (int a = 0; a < 9; ++a) c.R[a][k] = f.R[a];
+      for (int a = 0; a < 3; ++a) c.t[a][k] = f.t[a];
+      c.f[k] = f.f, c.k1[k] = f.k1, c.k2[k] = f.k2;
+      const double* P = d.points[o.point].data();
+      X[0][k] = P[0], X[1][k] = P[1], X[2][k] = P[2];
+      z[0][k] = o.z[0], z[1][k] = o.z[1];
+    }
+    bal_linearize(c, X, z, r, E, F);
+    Lanes cost = r[0] * r[0] + r[1] * r[1];
+    if (d.kernel) robust_correct_lanes(*d.kernel, n, r, E, F, &cost);
+    Lanes W[27];  // W_ij = F_ijᵀE_ij (9×3) column by column, the scalar expression per lane
+    for (int col = 0; col < 3; ++col)
+      for (int a = 0; a < 9; ++a) W[9 * col + a] = F[a] * E[col] + F[9 + a] * E[3 + col];
+    for (int k = 0; k < n; ++k) {
+      const BalPointObservation& o = d.pt_obs[q + k];
+      while (q + k >= d.pt_ptr[j + 1]) flush();
+      sum += cost[k];
+      const double e0[3] = {E[0][k], E[1][k], E[2][k]}, e1[3] = {E[3][k], E[4][k], E[5][k]};
+      const double r0 = r[0][k], r1 = r[1][k];
+      C[0] += e0[0] * e0[0] + e1[0] * e1[0];
+      C[1] += e0[0] * e0[1] + e1[0] * e1[1];
+      C[2] += e0[0] * e0[2] + e1[0] * e1[2];
+      C[3] += e0[1] * e0[1] + e1[1] * e1[1];
+      C[4] += e0[1] * e0[2] + e1[1] * e1[2];
+      C[5] += e0[2] * e0[2] + e1[2] * e1[2];
+      gj[0] += e0[0] * r0 + e1[0] * r1;
+      gj[1] += e0[1] * r0 + e1[1] * r1;
+      gj[2] += e0[2] * r0 + e1[2] * r1;
+      // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
+      const bool accumulate = o.camera == previous_camera;
+      const int ld = d.hessian->leading_dim(j);
+      double* __restrict w = d.H + o.w_off;
+      for (int col = 0; col < 3; ++col, w += ld)
+        for (int a = 0; a < 9; ++a) w[a] = accumulate ? w[a] + W[9 * col + a][k] : W[9 * col + a][k];
+      previous_camera = o.camera;
+    }
   }
+  while (j < j_end) flush();  // the last point (and any without observations)
   return sum;
+}
+
+// Cameras [i_begin, i_end): B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij. F_ij, r_ij are recomputed
+// here by the fused kernel (after the robust correction: the point pass's bits), four
+// observations at a time in lanes; nothing is stored per observation. The sums run per lane
+// over the camera's groups of four, then over the lanes 0..3: the order depends only on the
+// camera's observation count. Padded lanes (the last group) repeat its last observation and
+// contribute zeros.
+__attribute__((target_clones("avx2", "default"))) void linearize_cameras(const PassData& d, int i_begin,
+                                                                         int i_end) {
+  for (int i = i_begin; i < i_end; ++i) {
+    const BalCameraFrame& c = d.frames[i];
+    Lanes B[45], gi[9];  // B's lower triangle row by row: (a, b) at a(a+1)/2 + b
+    for (Lanes& v : B) v = Lanes{0.0, 0.0, 0.0, 0.0};
+    for (Lanes& v : gi) v = Lanes{0.0, 0.0, 0.0, 0.0};
+    const int q_end = d.cam_ptr[i + 1];
+    for (int q = d.cam_ptr[i]; q < q_end; q += kLanes) {
+      const int n = std::min(kLanes, q_end - q);
+      Lanes X[3], z[2], r[2], E[6], F[18];
+      for (int k = 0; k < kLanes; ++k) {
+        const BalCameraObservation& o = d.cam_obs[q + std::min(k, n - 1)];
+        const double* P = d.points[o.point].data();
+        X[0][k] = P[0], X[1][k] = P[1], X[2][k] = P[2];
+        z[0][k] = o.z[0], z[1][k] = o.z[1];
+      }
+      bal_linearize(c, X, z, r, E, F);
+      if (d.kernel) {
+        Lanes cost;
+        robust_correct_lanes(*d.kernel, n, r, E, F, &cost);
+      }
+      for (int k = n; k < kLanes; ++k) {
+        r[0][k] = r[1][k] = 0.0;
+        for (Lanes& v : F) v[k] = 0.0;
+      }
+      for (int a = 0, t = 0; a < 9; ++a) {
+        for (int b = 0; b <= a; ++b, ++t) B[t] += F[a] * F[b] + F[9 + a] * F[9 + b];
+        gi[a] += F[a] * r[0] + F[9 + a] * r[1];
+      }
+    }
+    const int bi = d.np + i, ld = d.hessian->leading_dim(bi), s = d.hessian->block_start(bi);
+    double* Bi = d.H + d.hessian->block_offset(bi, bi);
+    for (int a = 0, t = 0; a < 9; ++a) {
+      for (int b = 0; b <= a; ++b, ++t) {
+        const double v = ((B[t][0] + B[t][1]) + B[t][2]) + B[t][3];
+        Bi[static_cast<std::ptrdiff_t>(b) * ld + a] = v, Bi[static_cast<std::ptrdiff_t>(a) * ld + b] = v;
+      }
+      d.g[s + a] = ((gi[a][0] + gi[a][1]) + gi[a][2]) + gi[a][3];
+      d.diag[s + a] = Bi[static_cast<std::ptrdiff_t>(a) * ld + a];
+    }
+  }
 }
 
 }  // namespace
@@ -160,7 +238,7 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
   }
   std::partial_sum(pt_ptr_.begin(), pt_ptr_.end(), pt_ptr_.begin());
   std::partial_sum(cam_ptr_.begin(), cam_ptr_.end(), cam_ptr_.begin());
-  std::vector<int> cam_obs(no), slot_of(no);
+  std::vector<int> cam_obs(no);
   {
     std::vector<int> fill(cam_ptr_.begin(), cam_ptr_.end() - 1);
     std::vector<int> by_point(no);
@@ -169,7 +247,6 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
                      [&](int a, int b) { return p.observations[a].point < p.observations[b].point; });
     for (int k : by_point) cam_obs[fill[p.observations[k].camera]++] = k;  // camera, then point order
   }
-  for (int q = 0; q < no; ++q) slot_of[cam_obs[q]] = q;
   // H's pattern: point j is block j, camera i block np + i; one block per observed pair.
   std::vector<int> dims(static_cast<std::size_t>(np_) + nc_, 9);
   std::fill(dims.begin(), dims.begin() + np_, 3);
@@ -185,14 +262,17 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
       const BalObservation& o = p.observations[k];
       PointObs& po = pt_obs_[pfill[o.point]++];
       po.w_off = hessian_.block_offset(np_ + o.camera, o.point);
-      po.camera = o.camera, po.slot = slot_of[k];
+      po.camera = o.camera, po.point = o.point;
       po.z[0] = o.pixel.x(), po.z[1] = o.pixel.y();
     }
   }
   g_.setZero(hessian_.rows());
   diag_.setZero(hessian_.rows());
-  ft_.assign(static_cast<std::size_t>(no) * kFt, 0.0);
-  r_cam_.assign(2 * static_cast<std::size_t>(no), 0.0);
+  cam_obs_.resize(no);
+  for (int q = 0; q < no; ++q) {
+    const BalObservation& o = p.observations[cam_obs[q]];
+    cam_obs_[q].point = o.point, cam_obs_[q].z[0] = o.pixel.x(), cam_obs_[q].z[1] = o.pixel.y();
+  }
   frames_.resize(nc_);
   chunk_cost_.assign((np_ + kChunk - 1) / kChunk, 0.0);
 }
@@ -211,12 +291,11 @@ void BalNormalEquations::camera_frames(const BalState& x) const {
       64);
 }
 
-// Per point j (chunks of kChunk points): residuals of its observations; with Jacobians also
-// C_j, g_j, W_ij = F_ijᵀE_ij (into H, the point's own column) and F_ij, r_ij (written by the
-// kernel straight into ft_, r_cam_ at the observation's camera-order slot).
+// Per point j (chunks of kChunk points), its observations in camera order: their residuals and
+// ρ; with Jacobians also C_j, g_j and W_ij (linearize_points). The frames must be formed.
 template <bool kJacobians>
-double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* chunk_cost) {
-  camera_frames(x);
+double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* chunk_cost,
+                                      const std::function<void(int, int)>* before_chunk) {
   const int nchunks = static_cast<int>(chunk_cost->size());
   double* H = hessian_.values().data();
   const RobustKernel* kernel = kernel_.get();
@@ -227,10 +306,18 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
           double sum = 0.0;
           const int j_begin = static_cast<int>(c) * kChunk;
           const int j_end = std::min<int>(np_, j_begin + kChunk);
+          if (before_chunk && !kJacobians) (*before_chunk)(j_begin, j_end);
           if (kJacobians) {
-            const PointPassData d{x.points.data(), pt_obs_.data(), pt_ptr_.data(), frames_.data(),
-                                  ft_.data(), r_cam_.data(), H, g_.data(), diag_.data(), &hessian_, kernel};
-            sum = linearize_points(d, j_begin, j_end);
+            const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(),
+                             cam_ptr_.data(), H, g_.data(), diag_.data(), &hessian_, kernel, np_};
+            // With before_chunk, sub-chunks of kSub points: its reads of their H columns are
+            // still in L1 when they are overwritten (the cost is summed in the same order).
+            const int sub = before_chunk ? kSub : kChunk;
+            for (int jb = j_begin; jb < j_end; jb += sub) {
+              const int je = std::min(j_end, jb + sub);
+              if (before_chunk) (*before_chunk)(jb, je);
+              sum = linearize_points(d, jb, je, sum);
+            }
           } else {
             for (int j = j_begin; j < j_end; ++j) {
               const double* X = x.points[j].data();
@@ -259,36 +346,40 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
 
 double BalNormalEquations::cost(const BalState& x) const {
   // point_pass<false> writes nothing but frames_ and the chunk sums (both mutable scratch).
+  camera_frames(x);
   return const_cast<BalNormalEquations*>(this)->point_pass<false>(x, &chunk_cost_);
 }
 
 double BalNormalEquations::linearize(const BalState& x) {
   damped_ = false;
+  camera_frames(x);
+  // Points: C_j, g_j, W_ij and the cost; then cameras: B_i, g_i (F_ij recomputed in lanes).
   const double total = point_pass<true>(x, &chunk_cost_);
-  // Cameras: B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij over the camera's observations in point order.
-  double* H = hessian_.values().data();
-  pool_.parallel_for(
-      nc_,
-      [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-          // B_i = M Mᵀ, g_i = M r with M = [F_ij₁ᵀ … F_ijₘᵀ] (9 × 2m, contiguous): one blocked product
-          // per camera instead of m tiny ones; its summation order depends only on m.
-          const int m2 = 2 * (cam_ptr_[i + 1] - cam_ptr_[i]);
-          const Eigen::Map<const Eigen::Matrix<double, 9, Eigen::Dynamic>> M(
-              ft_.data() + static_cast<std::size_t>(cam_ptr_[i]) * kFt, 9, m2);
-          Mat99 B = Mat99::Zero();
-          B.selfadjointView<Eigen::Lower>().rankUpdate(M);
-          B.triangularView<Eigen::StrictlyUpper>() = B.transpose();
-          const Eigen::Matrix<double, 9, 1> gi = M * Eigen::Map<const Eigen::VectorXd>(r_cam_.data() + 2 * cam_ptr_[i], m2);
-          const int bi = np_ + static_cast<int>(i);
-          MapS<9, 9>(H + hessian_.block_offset(bi, bi), 9, 9, Eigen::OuterStride<>(hessian_.leading_dim(bi))) = B;
-          const int s = hessian_.block_start(bi);
-          g_.segment<9>(s) = gi;
-          diag_.segment<9>(s) = B.diagonal();
-        }
-      },
-      1);
+  linearize_camera_blocks(x);
   return total;
+}
+
+double BalNormalEquations::retract_and_linearize(const BalState& x, double* step, BalState& out,
+                                                 const std::function<void(int, int, double*)>& back_substitute) {
+  damped_ = false;
+  out.cameras.resize(nc_), out.points.resize(np_);
+  retract_cameras(x, step, out);
+  camera_frames(out);
+  // Per chunk: δ_j by back-substitution (reads W_·j, C_j⁻¹), X_j ⊞ δ_j, then W_·j, C_j, g_j at out.
+  const std::function<void(int, int)> before = [&](int j_begin, int j_end) {
+    back_substitute(j_begin, j_end, step);
+    for (int j = j_begin; j < j_end; ++j) out.points[j] = x.points[j] + Eigen::Map<const Eigen::Vector3d>(step + 3 * j);
+  };
+  const double total = point_pass<true>(out, &chunk_cost_, &before);
+  linearize_camera_blocks(out);
+  return total;
+}
+
+void BalNormalEquations::linearize_camera_blocks(const BalState& x) {
+  const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(), cam_ptr_.data(),
+                   hessian_.values().data(), g_.data(), diag_.data(), &hessian_, kernel_.get(), np_};
+  pool_.parallel_for(
+      nc_, [&](std::size_t b, std::size_t e) { linearize_cameras(d, static_cast<int>(b), static_cast<int>(e)); }, 1);
 }
 
 int BalNormalEquations::first_nonfinite_observation(const BalState& x) const {
@@ -305,6 +396,19 @@ void BalNormalEquations::set_diagonal_damping(const Eigen::VectorXd& damping) {
   auto& v = hessian_.values();
   for (int a = 0; a < dim(); ++a) v[pos[a]] = diag_[a] + damping[a];
   damping_ = damping;
+  damped_ = true, damped_from_ = 0;
+}
+
+void BalNormalEquations::set_diagonal_damping(double lambda, const Eigen::VectorXd& D, bool points_in_h) {
+  const auto& pos = hessian_.diagonal_positions();
+  auto& v = hessian_.values();
+  damping_.resize(dim());
+  damped_from_ = points_in_h ? 0 : 3 * np_;
+  for (int a = 0; a < damped_from_; ++a) damping_[a] = lambda * D[a];
+  for (int a = damped_from_; a < dim(); ++a) {
+    damping_[a] = lambda * D[a];
+    v[pos[a]] = diag_[a] + damping_[a];
+  }
   damped_ = true;
 }
 
@@ -312,7 +416,7 @@ void BalNormalEquations::clear_damping() {
   if (!damped_) return;
   const auto& pos = hessian_.diagonal_positions();
   auto& v = hessian_.values();
-  for (int a = 0; a < dim(); ++a) v[pos[a]] = diag_[a];
+  for (int a = damped_from_; a < dim(); ++a) v[pos[a]] = diag_[a];
   damped_ = false;
 }
 
@@ -352,7 +456,11 @@ double BalNormalEquations::quadratic(const Eigen::VectorXd& d) const {
     const Eigen::Matrix<double, 9, 1> di = d.segment<9>(s);
     q += di.dot(CMapS<9, 9>(H + hessian_.block_offset(bi, bi), 9, 9, Eigen::OuterStride<>(hessian_.leading_dim(bi))) * di);
   }
-  if (damped_) q -= (damping_.array() * d.array().square()).sum();
+  if (damped_ && damped_from_ == 0) q -= (damping_.array() * d.array().square()).sum();
+  if (damped_ && damped_from_ > 0) {
+    const int n = dim() - damped_from_;
+    q -= (damping_.tail(n).array() * d.tail(n).array().square()).sum();
+  }
   return q;
 }
 
@@ -361,6 +469,10 @@ void BalNormalEquations::retract(const BalState& x, const double* step, BalState
   pool_.parallel_for(np_, [&](std::size_t b, std::size_t e) {
     for (std::size_t j = b; j < e; ++j) out.points[j] = x.points[j] + Eigen::Map<const Eigen::Vector3d>(step + 3 * j);
   });
+  retract_cameras(x, step, out);
+}
+
+void BalNormalEquations::retract_cameras(const BalState& x, const double* step, BalState& out) const {
   const double* sc = step + 3 * static_cast<std::ptrdiff_t>(np_);
   pool_.parallel_for(
       nc_, [&](std::size_t b, std::size_t e) {

@@ -79,6 +79,7 @@ struct SchurComplementSolver::Impl {
   std::vector<std::ptrdiff_t> precond_off;
   Eigen::VectorXd ye, rk, xk, be, bk, work_e, pr, pz, pp, pq;
   bool rhs_formed = false;  // rk (and be, bk) hold the rhs of the b given to factorize(A, b)
+  bool kept_solved = false;  // xk solves the last factorization's reduced system
 
   // be = b_e (packed), bk = b_k (S numbering).
   void gather_rhs(const double* b) {
@@ -103,23 +104,31 @@ struct SchurComplementSolver::Impl {
   const double* H() const { return A->values().data(); }
 
   // C_e⁻¹ for e in [b, e); false if some C_e is not positive definite.
+  // With shift (H's row order), C_e + diag(shift_e). With b_e (packed), also y_e = C_e⁻¹ b_e,
+  // stored right after C_e⁻¹: forming the reduced rhs then reads it with C_e⁻¹, in cache,
+  // instead of b_e from a vector indexed by e in each camera's order (a cache miss per pair).
   template <int ED>
-  bool invert_c(std::size_t begin, std::size_t end) {
+  bool invert_c(std::size_t begin, std::size_t end, const double* shift, const double* be_packed) {
     using M = Eigen::Matrix<double, ED, ED>;
     for (std::size_t e = begin; e < end; ++e) {
       const int d = ed[e];
-      const M C = CMap<ED, ED>(H() + e_diag_off[e], d, d, Eigen::OuterStride<>(e_diag_ld[e]));
+      M C = CMap<ED, ED>(H() + e_diag_off[e], d, d, Eigen::OuterStride<>(e_diag_ld[e]));
+      if (shift)
+        for (int a = 0; a < d; ++a) C(a, a) += shift[e_start[e] + a];
       Eigen::LLT<M> l(C);
       if (l.info() != Eigen::Success) return false;
       MMap<ED, ED> out(cinv.data() + cinv_off[e], d, d, Eigen::OuterStride<>(d));
       out = l.solve(M::Identity(d, d));
       if (!out.allFinite()) return false;
+      if (be_packed)
+        MVec<ED>(cinv.data() + cinv_off[e] + d * d, d).noalias() =
+            out * CVec<ED>(be_packed + static_cast<std::ptrdiff_t>(e) * d, d);
     }
     return true;
   }
 
   // dest(kd_i × kd_s) -= Σ_e E_ie C_e⁻¹ E_seᵀ for the rows i ≥ s, plus B's lower blocks; with
-  // rhs, also rk_s = b_s − Σ_e (C_e⁻¹ E_seᵀ)ᵀ b_e from bk and the packed b_e in work_e.
+  // rhs, also rk_s = b_s − Σ_e E_se y_e from bk and y_e = C_e⁻¹ b_e (invert_c).
   template <int KD, int ED, class Dest>
   void form_column(int s, Dest&& dest, bool rhs) {
     const int ds = kd[s];
@@ -139,7 +148,7 @@ struct SchurComplementSolver::Impl {
       const CMap<KD, ED> Ese(H() + e_off[k_slot[t]], ds, de, Eigen::OuterStride<>(ld));
       const CMap<ED, ED> Ci(cinv.data() + cinv_off[e], de, de, Eigen::OuterStride<>(de));
       const Eigen::Matrix<double, ED, KD> F = Ci.lazyProduct(Ese.transpose());
-      if (rhs) r.noalias() -= F.transpose() * CVec<ED>(be.data() + static_cast<std::ptrdiff_t>(e) * de, de);
+      if (rhs) r.noalias() -= Ese * CVec<ED>(cinv.data() + cinv_off[e] + de * de, de);
       for (int q = e_ptr[e]; q < e_ptr[e + 1]; ++q) {
         const int i = e_kept[q];
         if (i < s) continue;
@@ -207,7 +216,7 @@ struct SchurComplementSolver::Impl {
           const CMap<ED, ED> Ci(cinv.data() + cinv_off[e], de, de, Eigen::OuterStride<>(de));
           const Eigen::Matrix<double, ED, KD> F = Ci.lazyProduct(Ese.transpose());
           D.noalias() -= Ese.lazyProduct(F);
-          if (rhs) r.noalias() -= F.transpose() * CVec<ED>(be.data() + static_cast<std::ptrdiff_t>(e) * de, de);
+          if (rhs) r.noalias() -= Ese * CVec<ED>(cinv.data() + cinv_off[e] + de * de, de);
         }
       }
       if (rhs) rk.segment(s_start[s], ds) = r;
@@ -221,10 +230,16 @@ struct SchurComplementSolver::Impl {
   // out_e = C_e⁻¹ (in_e − Σ_k E_keᵀ v_k) (v may be null: no kept part); in/out over eliminated storage.
   template <int KD, int ED>
   void eliminated_solve(const ThreadPool& pool, const double* in_e, const double* v, double* out_e) {
-    pool.parallel_for(ne, [&](std::size_t b, std::size_t end) {
+    pool.parallel_for(ne, [&](std::size_t b, std::size_t end) { eliminated_solve_range<KD, ED>(b, end, in_e, v, out_e); });
+  }
+
+  // eliminated_solve on e in [b, end), serially: reads only those e's blocks of H and C_e⁻¹.
+  template <int KD, int ED>
+  void eliminated_solve_range(std::size_t b, std::size_t end, const double* in_e, const double* v, double* out_e) {
+    {
       for (std::size_t e = b; e < end; ++e) {
         const int de = ed[e], ld = e_diag_ld[e];
-        const std::ptrdiff_t o = cinv_off[e] / std::max(1, de);  // start of e in eliminated storage
+        const std::ptrdiff_t o = static_cast<std::ptrdiff_t>(e) * de;  // start of e in eliminated storage
         Eigen::Matrix<double, ED, 1> t(de);
         if (in_e) t = CVec<ED>(in_e + o, de); else t.setZero();
         if (v)
@@ -235,7 +250,7 @@ struct SchurComplementSolver::Impl {
           }
         MVec<ED>(out_e + o, de).noalias() = CMap<ED, ED>(cinv.data() + cinv_off[e], de, de, Eigen::OuterStride<>(de)) * t;
       }
-    });
+    }
   }
 
   // out_s = sign_b · (B v)_s − Σ_e E_se y_e (+ base_s); y over eliminated storage.
@@ -259,7 +274,7 @@ struct SchurComplementSolver::Impl {
         for (int q = k_ptr[s]; q < k_ptr[s + 1]; ++q) {
           const int e = k_elim[q], de = ed[e];
           t.noalias() -= CMap<KD, ED>(H() + e_off[k_slot[q]], ds, de, Eigen::OuterStride<>(e_diag_ld[e])) *
-                         CVec<ED>(y + cinv_off[e] / std::max(1, de), de);
+                         CVec<ED>(y + static_cast<std::ptrdiff_t>(e) * de, de);
         }
         MVec<KD>(out + s_start[s], ds) = t;
       }
@@ -387,7 +402,7 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
     m.e_diag_ld[e] = A.leading_dim(b);
     m.e_diag_off[e] = A.block_offset(b, b);
     m.cinv_off[e] = coff;
-    coff += static_cast<std::ptrdiff_t>(m.ed[e]) * m.ed[e];
+    coff += static_cast<std::ptrdiff_t>(m.ed[e]) * (m.ed[e] + 1);  // C_e⁻¹, then y_e = C_e⁻¹ b_e
     for (const int* r = A.column_blocks_begin(b) + 1; r != A.column_blocks_end(b); ++r) {
       const int s = sidx[qidx[*r]];
       m.e_kept.push_back(s);
@@ -398,8 +413,7 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
     k93 = k93 && m.ed[e] == 3, k63 = k63 && m.ed[e] == 3, k61 = k61 && m.ed[e] == 1, k151 = k151 && m.ed[e] == 1;
   }
   m.cinv_off[m.ne] = coff;
-  // Eliminated storage of a vector: block e at cinv_off[e] / ed[e] only works when all dims are equal;
-  // use dims-consistent offsets instead (e_start is in H; the eliminated vector is packed).
+  // Eliminated storage of a vector (packed): block e at e · ed[e], all dims being equal.
   {
     bool equal = true;
     for (int e = 0; e < m.ne; ++e) equal = equal && m.ed[e] == m.ed[0];
@@ -477,24 +491,25 @@ void SchurComplementSolver::analyze(const BlockSparseMatrix& A, const Eliminatio
 
 bool SchurComplementSolver::factorize(const BlockSparseMatrix& A) { return factorize(A, nullptr); }
 
-bool SchurComplementSolver::factorize(const BlockSparseMatrix& A, const double* b) {
+bool SchurComplementSolver::factorize(const BlockSparseMatrix& A, const double* b, const double* eliminated_shift) {
   Impl& m = *impl_;
   if (m.A == nullptr || A.rows() != m.A->rows()) throw std::logic_error("SchurComplementSolver::factorize before analyze");
   m.A = &A;
-  m.rhs_formed = false;
+  m.rhs_formed = m.kept_solved = false;
   const double t0 = now_s();
   std::vector<char> ok(static_cast<std::size_t>(m.ne) + 1, 1);
   bool good = true;
-  m.dispatch([&](auto KD, auto ED) {
-    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
-    (void)kd;
-    pool_.parallel_for(m.ne, [&](std::size_t b, std::size_t e) { ok[b] = m.template invert_c<edim>(b, e); });
-  });
-  for (char c : ok) good = good && c;
-  if (!good) return false;
   const bool schur_jacobi = options_.preconditioner == SchurPreconditioner::kSchurJacobi;
   const bool rhs = b != nullptr && (method_ != SchurMethod::kPcg || schur_jacobi);
   if (b) m.gather_rhs(b);
+  const double* be = rhs ? m.be.data() : nullptr;
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    (void)kd;
+    pool_.parallel_for(m.ne, [&](std::size_t b0, std::size_t e) { ok[b0] = m.template invert_c<edim>(b0, e, eliminated_shift, be); });
+  });
+  for (char c : ok) good = good && c;
+  if (!good) return false;
   bool result = true;
   m.dispatch([&](auto KD, auto ED) {
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
@@ -545,6 +560,31 @@ void SchurComplementSolver::solve(const double* b, double* x) {
 
 void SchurComplementSolver::solve_factored_rhs(double* x) {
   Impl& m = *impl_;
+  solve_factored_kept(x);
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    // Back-substitution x_e = C_e⁻¹ (b_e − Σ_k E_keᵀ x_k), one pass in the E blocks' storage order.
+    m.template eliminated_solve<kd, edim>(pool_, m.be.data(), m.xk.data(), m.ye.data());
+  });
+  const int de = m.ne > 0 ? m.ed[0] : 0;
+  for (int e = 0; e < m.ne; ++e)
+    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a];
+}
+
+void SchurComplementSolver::back_substitute(int e_begin, int e_end, double* x) {
+  Impl& m = *impl_;
+  if (!m.kept_solved) throw std::logic_error("SchurComplementSolver::back_substitute without solve_factored_kept");
+  m.dispatch([&](auto KD, auto ED) {
+    constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
+    m.template eliminated_solve_range<kd, edim>(e_begin, e_end, m.be.data(), m.xk.data(), m.ye.data());
+  });
+  const int de = m.ne > 0 ? m.ed[0] : 0;
+  for (int e = e_begin; e < e_end; ++e)
+    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a];
+}
+
+void SchurComplementSolver::solve_factored_kept(double* x) {
+  Impl& m = *impl_;
   if (!m.rhs_formed) throw std::logic_error("SchurComplementSolver::solve_factored_rhs without a factorize(A, b)");
   last_pcg_iterations_ = 0;
   last_residual_dot_solution_ = 0.0;
@@ -590,12 +630,8 @@ void SchurComplementSolver::solve_factored_rhs(double* x) {
       total_pcg_iterations_ += last_pcg_iterations_;
       last_residual_dot_solution_ = m.xk.dot(m.pr);  // pr = rhs − S x_k (CG's recurrence)
     }
-    // Back-substitution x_e = C_e⁻¹ (b_e − Σ_k E_keᵀ x_k), one pass in the E blocks' storage order.
-    m.template eliminated_solve<kd, edim>(pool_, m.be.data(), m.xk.data(), m.ye.data());
   });
-  const int de = m.ne > 0 ? m.ed[0] : 0;
-  for (int e = 0; e < m.ne; ++e)
-    for (int a = 0; a < de; ++a) x[m.e_start[e] + a] = m.ye[e * de + a];
+  m.kept_solved = true;
   for (int s = 0; s < m.nk; ++s)
     for (int a = 0; a < m.kd[s]; ++a) x[m.k_start[s] + a] = m.xk[m.s_start[s] + a];
 }
@@ -609,9 +645,9 @@ bool SchurComplementSolver::reduced_system(const BlockSparseMatrix& A, const dou
   bool good = true;
   m.dispatch([&](auto KD, auto ED) {
     constexpr int kd = decltype(KD)::value, edim = decltype(ED)::value;
-    good = m.template invert_c<edim>(0, m.ne);
-    if (!good) return;
     m.gather_rhs(b);
+    good = m.template invert_c<edim>(0, m.ne, nullptr, m.be.data());
+    if (!good) return;
     m.template form_dense<kd, edim>(pool_, true);
   });
   if (!good) return false;

@@ -74,6 +74,35 @@ TEST(BalReprojectionFactor, FusedKernelJacobiansMatchNumeric) {
   EXPECT_LT(worst, 1e-6);
 }
 
+// The camera pass runs the fused kernel on four observations of one camera at a time (one per
+// lane of a GCC vector): every lane must get the scalar kernel's bits.
+TEST(BalReprojectionFactor, FusedKernelInLanesGivesTheScalarBits) {
+  typedef double Lanes __attribute__((vector_size(32)));
+  BalProblem p = small_problem(4, 40);
+  for (std::size_t i = 0; i < p.cameras.size(); ++i) p.cameras[i][7] = 0.3 - 0.1 * i, p.cameras[i][8] = -0.05;
+  int checked = 0;
+  for (std::size_t q = 0; q + 4 <= p.observations.size(); q += 4) {
+    const BalCameraFrame fr = BalCameraFrame::from(BalCamera::from_bal(p.cameras[p.observations[q].camera]));
+    Lanes X[3], z[2], r[2], E[6], F[18];
+    for (int k = 0; k < 4; ++k) {
+      const BalObservation& o = p.observations[q + k];
+      for (int a = 0; a < 3; ++a) X[a][k] = p.points[o.point][a];
+      z[0][k] = o.pixel.x(), z[1][k] = o.pixel.y();
+    }
+    bal_linearize(fr, X, z, r, E, F);
+    for (int k = 0; k < 4; ++k) {
+      const BalObservation& o = p.observations[q + k];
+      double rs[2], Es[6], Fs[18];
+      bal_linearize(fr, p.points[o.point].data(), o.pixel.data(), rs, Es, Fs);
+      for (int a = 0; a < 2; ++a) EXPECT_EQ(std::memcmp(&rs[a], &r[a][k], sizeof(double)), 0);
+      for (int a = 0; a < 6; ++a) EXPECT_EQ(std::memcmp(&Es[a], &E[a][k], sizeof(double)), 0);
+      for (int a = 0; a < 18; ++a) EXPECT_EQ(std::memcmp(&Fs[a], &F[a][k], sizeof(double)), 0);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(BalReprojectionFactor, ResidualIsTheBalModel) {
   const BalProblem p = small_problem(4, 40);
   BundleAdjustmentProblem ba = build_bundle_adjustment_problem(p);

@@ -132,8 +132,56 @@ TEST(SchurComplement, RhsFormedWithTheFactorizationMatchesThePlainSolve) {
   }
 }
 
+// solve_factored_kept then back_substitute over disjoint ranges (any order) gives the bits of
+// solve_factored_rhs; back_substitute before a reduced solve refuses.
+TEST(SchurComplement, BackSubstitutionByRangesMatchesSolveFactoredRhs) {
+  TestSystem s = make_system(60, 3, {9, 9, 9, 9, 9, 9}, 13);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(s.dense.rows(), -1.0, 2.0);
+  for (SchurMethod m : {SchurMethod::kDense, SchurMethod::kCholesky, SchurMethod::kPcg}) {
+    SchurOptions o;
+    o.method = m;
+    ThreadPool pool(2);
+    SchurComplementSolver solver(s.eliminate, pool, o);
+    solver.analyze(s.H);
+    Eigen::VectorXd whole(b.size()), ranges = Eigen::VectorXd::Constant(b.size(), 7.0);
+    ASSERT_TRUE(solver.factorize(s.H, b.data()));
+    EXPECT_THROW(solver.back_substitute(0, 10, ranges.data()), std::logic_error);
+    solver.solve_factored_rhs(whole.data());
+    ASSERT_TRUE(solver.factorize(s.H, b.data()));
+    solver.solve_factored_kept(ranges.data());
+    EXPECT_EQ(ranges.head(3 * 60), Eigen::VectorXd::Constant(3 * 60, 7.0)) << "eliminated rows untouched";
+    for (int e0 : {40, 0, 17}) solver.back_substitute(e0, e0 == 40 ? 60 : e0 == 0 ? 17 : 40, ranges.data());
+    EXPECT_EQ(whole, ranges) << to_string(m);
+  }
+}
+
 // The Nash-Sofer test stops PCG well before a tight residual tolerance would, with a step
 // whose model value is within its tolerance of the exact one.
+// factorize(H, b, shift) adds shift to the eliminated blocks' diagonals as it reads them: the
+// same bits as the shift written into H's diagonal (the BAL LM damps the points this way).
+TEST(SchurComplement, EliminatedShiftEqualsDampingInH) {
+  TestSystem s = make_system(40, 3, {9, 9, 9, 9, 9}, 5);
+  const int n = s.dense.rows();
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+  const Eigen::VectorXd shift = Eigen::VectorXd::LinSpaced(n, 0.5, 3.0);
+  BlockSparseMatrix damped = s.H;
+  for (int a = 0; a < 40 * 3; ++a) damped.values()[damped.diagonal_positions()[a]] += shift[a];
+  for (SchurMethod m : {SchurMethod::kDense, SchurMethod::kCholesky, SchurMethod::kPcg}) {
+    SchurOptions o;
+    o.method = m;
+    ThreadPool pool(1);
+    Eigen::VectorXd x_h(n), x_shift(n);
+    SchurComplementSolver in_h(s.eliminate, pool, o), shifted(s.eliminate, pool, o);
+    in_h.analyze(damped);
+    shifted.analyze(s.H);
+    ASSERT_TRUE(in_h.factorize(damped, b.data()));
+    in_h.solve_factored_rhs(x_h.data());
+    ASSERT_TRUE(shifted.factorize(s.H, b.data(), shift.data()));
+    shifted.solve_factored_rhs(x_shift.data());
+    EXPECT_EQ(x_h, x_shift) << to_string(m);
+  }
+}
+
 TEST(SchurComplement, PcgQuadraticModelTestStopsEarlyWithAGoodStep) {
   TestSystem s = make_system(400, 3, std::vector<int>(30, 9), 3);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(s.dense.rows(), -1.0, 1.0);

@@ -11,13 +11,16 @@
 // g = Jᵀr, laid out as a BlockSparseMatrix (point columns [C_j; W_·j], camera columns [B_i]) so
 // that SchurComplementSolver forms S = B − Σ_j W_·j C_j⁻¹ W_·jᵀ (or applies it, PCG) from them
 // for every λ without re-evaluating anything.
-// Parallelism: one pass over points (r, F, E of its observations in camera order; writes C_j,
-// g_j, W_ij, and F_ijᵀ, r_ij into a buffer in camera order: 20 doubles per observation), one
-// over cameras (B_i = M Mᵀ, g_i = M r with M the camera's F_ijᵀ side by side, point order). Costs are summed per fixed chunk
-// of points, then chunk by chunk: results are bit-identical for any thread count.
+// Parallelism: one pass over points (r, E, F of its observations in camera order; writes C_j,
+// g_j and W_ij into the point's column of H, in order), one over cameras (the fused kernel again
+// on four observations of the camera at a time, one per SIMD lane, for B_i and g_i: recomputing
+// F costs less than storing it, 144 B per observation written in camera order and read back).
+// Nothing is kept per observation beyond W. Costs are summed per fixed chunk of points, then
+// chunk by chunk, B_i per lane then lane by lane: bit-identical for any thread count.
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -41,8 +44,12 @@ void copy_bal_state(const BalState& x, BalProblem& p);
 /// An observation as the point pass reads it (in point order, then camera order).
 struct BalPointObservation {
   std::ptrdiff_t w_off;  // offset of W_ij in H's values
-  int camera;
-  int slot;              // its position in camera order (the F_ij, r_ij buffers)
+  int camera, point;
+  double z[2];
+};
+/// An observation as the camera pass reads it (in camera order, then point order).
+struct BalCameraObservation {
+  int point;
   double z[2];
 };
 
@@ -61,6 +68,14 @@ class BalNormalEquations {
   double cost(const BalState& x) const;
   /// H, g and diag(H) at x (undamped); returns the cost at x.
   double linearize(const BalState& x);
+  /// retract(x, δ, out) then linearize(out) in one pass over the points: δ's camera rows are
+  /// given; for each chunk of points [j_begin, j_end), back_substitute(j_begin, j_end, δ) first
+  /// writes their rows of δ (it may read H's columns of those points: they are overwritten only
+  /// after it returns; SchurComplementSolver::back_substitute), then the points are retracted and
+  /// their observations linearized at out while their W blocks are still in cache. The same bits
+  /// as the three steps apart; returns the cost at out.
+  double retract_and_linearize(const BalState& x, double* step, BalState& out,
+                               const std::function<void(int, int, double*)>& back_substitute);
   /// Index of the first observation whose residual is not finite at x (−1 if none).
   int first_nonfinite_observation(const BalState& x) const;
 
@@ -69,6 +84,13 @@ class BalNormalEquations {
   const Eigen::VectorXd& hessian_diagonal() const { return diag_; }
   /// diag(H) ← diag + damping (replaces any previous damping); clear_damping restores it.
   void set_diagonal_damping(const Eigen::VectorXd& damping);
+  /// The same with damping = λ·D, formed element by element (no temporary vector; same bits).
+  /// points_in_h = false: only the camera blocks' diagonals are damped in H; the points' damping
+  /// is left in damping() for SchurComplementSolver::factorize(H, b, damping().data()) to add
+  /// to C_j as it inverts it (no pass over H's point columns, which are not in cache by then).
+  void set_diagonal_damping(double lambda, const Eigen::VectorXd& D, bool points_in_h = true);
+  /// The damping of the last set_diagonal_damping (λ·D or the vector given), H's row order.
+  const Eigen::VectorXd& damping() const { return damping_; }
   void clear_damping();
   /// δᵀ H δ with the undamped H.
   double quadratic(const Eigen::VectorXd& d) const;
@@ -79,7 +101,10 @@ class BalNormalEquations {
 
  private:
   template <bool kJacobians>
-  double point_pass(const BalState& x, std::vector<double>* chunk_cost);
+  double point_pass(const BalState& x, std::vector<double>* chunk_cost,
+                    const std::function<void(int, int)>* before_chunk = nullptr);
+  void linearize_camera_blocks(const BalState& x);
+  void retract_cameras(const BalState& x, const double* step, BalState& out) const;
   void camera_frames(const BalState& x) const;
   using PointObs = BalPointObservation;
 
@@ -93,8 +118,8 @@ class BalNormalEquations {
   BlockSparseMatrix hessian_;
   Eigen::VectorXd g_, diag_, damping_;
   bool damped_ = false;
-  // F_ijᵀ (9×2) and r_ij per observation, after the kernel, in camera order (slot cam_slot_[k]).
-  std::vector<double> ft_, r_cam_;
+  int damped_from_ = 0;  // rows [damped_from_, dim) carry their damping in H
+  std::vector<BalCameraObservation> cam_obs_;  // camera order (slot order)
   mutable std::vector<BalCameraFrame> frames_;
   mutable std::vector<double> chunk_cost_;
 };

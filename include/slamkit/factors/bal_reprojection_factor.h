@@ -106,15 +106,22 @@ struct BalCameraFrame {
 
 /// The projection both kernels share: P = R X + t, p = −P/P_z (iz = 1/P_z), n = |p|²,
 /// d = 1 + k1 n + k2 n² (the radial factor), fd = f d; u = fd p.
-struct BalProjection {
-  double iz, p0, p1, n, d, fd;
+/// T is double, or a GCC vector of doubles (several observations of one camera, one per lane):
+/// the same operations in the same order, elementwise IEEE, so every lane gets the bits the
+/// scalar code gives (no FMA contraction: the build is ISO C++, -ffp-contract=off).
+template <class T>
+struct BalProjectionT {
+  T iz, p0, p1, n, d, fd;
 };
+using BalProjection = BalProjectionT<double>;
 
-inline BalProjection bal_project(const BalCameraFrame& c, const double* X) {
-  const double P0 = c.R[0] * X[0] + c.R[1] * X[1] + c.R[2] * X[2] + c.t[0];
-  const double P1 = c.R[3] * X[0] + c.R[4] * X[1] + c.R[5] * X[2] + c.t[1];
-  const double P2 = c.R[6] * X[0] + c.R[7] * X[1] + c.R[8] * X[2] + c.t[2];
-  BalProjection q;
+/// Cam: BalCameraFrame, or a frame whose fields are vectors too (lanes of different cameras).
+template <class Cam, class T>
+inline BalProjectionT<T> bal_project(const Cam& c, const T* X) {
+  const T P0 = c.R[0] * X[0] + c.R[1] * X[1] + c.R[2] * X[2] + c.t[0];
+  const T P1 = c.R[3] * X[0] + c.R[4] * X[1] + c.R[5] * X[2] + c.t[1];
+  const T P2 = c.R[6] * X[0] + c.R[7] * X[1] + c.R[8] * X[2] + c.t[2];
+  BalProjectionT<T> q;
   q.iz = 1.0 / P2;
   q.p0 = -P0 * q.iz, q.p1 = -P1 * q.iz;
   q.n = q.p0 * q.p0 + q.p1 * q.p1;
@@ -134,30 +141,31 @@ inline void bal_residual(const BalCameraFrame& c, const double* X, const double*
 ///   A = ∂u/∂p = f d I + s p pᵀ (s = 2 f (k1 + 2 k2 n)),  T = ∂u/∂P = A ∂p/∂P = −(1/P_z) [A | A p],
 ///   E = ∂u/∂X = T R,  rotation columns of F: row k = X × E_k (= −E_k [X]×),  F's t columns = T,
 ///   F's intrinsic columns: d p, f n p, f n² p.
-/// Out: r (2), E (2×3 row-major), F (2×9 row-major, i.e. Fᵀ column-major 9×2).
-inline void bal_linearize(const BalCameraFrame& c, const double* X, const double* z, double* r, double* E, double* F) {
-  const BalProjection q = bal_project(c, X);
-  const double iz = q.iz, p0 = q.p0, p1 = q.p1, n = q.n, d = q.d, fd = q.fd;
+/// Out: r (2), E (2×3 row-major), F (2×9 row-major, i.e. Fᵀ column-major 9×2). Cam, V as above.
+template <class Cam, class V>
+inline void bal_linearize(const Cam& c, const V* X, const V* z, V* r, V* E, V* F) {
+  const BalProjectionT<V> q = bal_project(c, X);
+  const V iz = q.iz, p0 = q.p0, p1 = q.p1, n = q.n, d = q.d, fd = q.fd;
   r[0] = fd * p0 - z[0], r[1] = fd * p1 - z[1];
-  const double s = 2.0 * c.f * (c.k1 + 2.0 * c.k2 * n);
-  const double a = fd + s * p0 * p0, b = s * p0 * p1, cc = fd + s * p1 * p1;
-  const double m = -iz;
+  const V s = 2.0 * c.f * (c.k1 + 2.0 * c.k2 * n);
+  const V a = fd + s * p0 * p0, b = s * p0 * p1, cc = fd + s * p1 * p1;
+  const V m = -iz;
   // T rows (∂u/∂P).
-  const double T0 = m * a, T1 = m * b, T2 = m * (a * p0 + b * p1);
-  const double U0 = m * b, U1 = m * cc, U2 = m * (b * p0 + cc * p1);
+  const V T0 = m * a, T1 = m * b, T2 = m * (a * p0 + b * p1);
+  const V U0 = m * b, U1 = m * cc, U2 = m * (b * p0 + cc * p1);
   for (int k = 0; k < 3; ++k) {
     E[k] = T0 * c.R[k] + T1 * c.R[3 + k] + T2 * c.R[6 + k];
     E[3 + k] = U0 * c.R[k] + U1 * c.R[3 + k] + U2 * c.R[6 + k];
   }
   for (int row = 0; row < 2; ++row) {
-    const double* e = E + 3 * row;
-    double* Fr = F + 9 * row;
+    const V* e = E + 3 * row;
+    V* Fr = F + 9 * row;
     Fr[0] = X[1] * e[2] - X[2] * e[1];
     Fr[1] = X[2] * e[0] - X[0] * e[2];
     Fr[2] = X[0] * e[1] - X[1] * e[0];
   }
   F[3] = T0, F[4] = T1, F[5] = T2, F[12] = U0, F[13] = U1, F[14] = U2;
-  const double fn = c.f * n, fnn = fn * n;
+  const V fn = c.f * n, fnn = fn * n;
   F[6] = d * p0, F[7] = fn * p0, F[8] = fnn * p0;
   F[15] = d * p1, F[16] = fn * p1, F[17] = fnn * p1;
 }

@@ -69,8 +69,19 @@ class SchurComplementSolver final : public SparseCholesky {
   /// factorize(A) that also forms the reduced right-hand side b_k − E C⁻¹ b_e of this b while
   /// S (or the Schur-Jacobi preconditioner) is formed, where E C⁻¹ is at hand: no separate pass
   /// over the E blocks; then solve_factored_rhs(x) solves H x = b (b must stay valid until then).
-  bool factorize(const BlockSparseMatrix& A, const double* b);
+  /// eliminated_shift (H's row order, may be null): added to the diagonal of each eliminated
+  /// block C_e as it is read (C_e + diag(shift_e)); the other rows of it are not read.
+  bool factorize(const BlockSparseMatrix& A, const double* b, const double* eliminated_shift = nullptr);
   void solve_factored_rhs(double* x);
+  /// solve_factored_rhs in two steps, for a caller that fuses the back-substitution with its own
+  /// pass over the eliminated blocks: solve_factored_kept solves the reduced system (x's kept
+  /// rows written, the eliminated rows untouched); then back_substitute(e_begin, e_end, x) writes
+  /// x_e = C_e⁻¹ (b_e − Σ_k E_keᵀ x_k) for the eliminated blocks [e_begin, e_end) (numbered in
+  /// H's block order), serially (no pool: call it from the caller's parallel pass, disjoint
+  /// ranges). It reads only the E blocks of those e in H (which may change elsewhere meanwhile)
+  /// and C_e⁻¹: once it returned, the caller may overwrite them. Same bits as solve_factored_rhs.
+  void solve_factored_kept(double* x);
+  void back_substitute(int e_begin, int e_end, double* x);
   void solve(const double* b, double* x) override;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) override;
   double inverse_factor_norm2(const double* v) override;
