@@ -263,7 +263,7 @@ bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>
       const double miss = 1.0 - std::pow(w, 8);
       if (miss <= 0.0) break;
       const double need = std::log(1.0 - options_.ransac_confidence) / std::log(miss);
-      iterations = std::min<long>(iterations, static_cast<long>(std::ceil(need)));
+      iterations = std::min<long>(iterations, std::max<long>(100, static_cast<long>(std::ceil(3 * need))));
     }
   }
   if (best_count < 8) return false;
