@@ -44,8 +44,8 @@ struct FeatureTrackerOptions {
   /// converge, lie more than this apart and their residuals are within ambiguity_ratio of each
   /// other, the match is ambiguous (two motifs of a repeated texture fit) and the track is lost
   /// (counted in lost_klt); ≤ 0 disables it.
-  double ambiguity_px = 0.0;
-  double ambiguity_ratio = 0.5;  ///< min(residual) / max(residual) above this ⇒ ambiguous
+  double ambiguity_px = 2.0;
+  double ambiguity_ratio = 0.3;  ///< min(residual) / max(residual) above this ⇒ ambiguous (2 px / 0.3 since session 23)
   /// > 0: a track whose KLT photometric residual exceeds this × the frame's median residual is
   /// lost (counted in lost_klt). Off by default: it removes KLT mismatches on rigid scenes but
   /// also the tracks on deforming movers (docs/frontend.md).
