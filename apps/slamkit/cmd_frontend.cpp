@@ -102,6 +102,7 @@ void run_frontend(const FrontendCliOptions& o) {
     frames.push_back({{"index", k}, {"name", source.frame_name(k)}, {"features", t.features.size()},
                       {"tracked", t.tracked}, {"detected", t.detected}, {"lost_klt", t.lost_klt},
                       {"lost_forward_backward", t.lost_forward_backward}, {"lost_border", t.lost_border},
+                      {"lost_appearance", t.lost_appearance},
                       {"static", c.n_static}, {"dynamic", c.n_dynamic}, {"unknown", has_matches ? c.n_unknown : 0},
                       {"static_ratio", c.static_ratio}, {"status", has_matches ? to_string(c.status) : "first_frame"},
                       {"median_flow_px", c.median_flow_px}, {"time_ms", ms}});
@@ -196,6 +197,11 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--ambiguity-ratio", o->tracker.ambiguity_ratio,
                   "with --ambiguity: residual ratio min/max above which two candidates count as equally good")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  sub->add_option("--min-patch-ncc", o->tracker.min_patch_ncc,
+                  "lose tracks whose patch NCC with the previous frame is below this (-1: off)")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--patch-half", o->tracker.patch_half_px, "NCC patch half size (px)")->check(CLI::Range(1, 50))
+      ->capture_default_str();
   sub->add_option("--threshold", o->filter.threshold_px, "epipolar distance above which a feature is dynamic (px)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--ransac-threshold", o->filter.ransac_threshold_px, "RANSAC inlier distance (px)")

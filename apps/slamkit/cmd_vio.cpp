@@ -218,6 +218,16 @@ void add_vio_command(CLI::App& app) {
                   "with --images: a track keeps its last N epipolar tests")->check(CLI::Range(1, 16))->capture_default_str();
   sub->add_option("--consistency-hits", o->image.vio.frontend.consistency_hits,
                   "with --images: dynamic iff at least H of them exceed the threshold")->check(CLI::Range(1, 16))->capture_default_str();
+  sub->add_option("--min-patch-ncc", o->image.vio.frontend.tracker.min_patch_ncc,
+                  "with --images: lose tracks whose patch NCC with the previous frame is below this (-1: off)")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--min-patch-ncc-baseline", o->image.vio.frontend.min_patch_ncc_baseline,
+                  "with --images: reject tested tracks whose patch NCC over the baseline is below this (-1: off)")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--ambiguity", o->image.vio.frontend.tracker.ambiguity_px,
+                  "with --images: KLT ambiguity check distance (px; 0: off)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--ambiguity-ratio", o->image.vio.frontend.tracker.ambiguity_ratio,
+                  "with --images: KLT ambiguity residual ratio")->check(CLI::Range(0.0, 1.0))->capture_default_str();
   sub->add_option("--epipolar-threshold", o->image.vio.frontend.filter.threshold_px, "with --images: dynamic above (px)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--pixel-sigma", o->image.vio.pixel_sigma, "with --images: sigma of the tracks in the window (px)")

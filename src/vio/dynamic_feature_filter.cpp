@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <Eigen/SVD>
+#include <random>
 #include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
@@ -78,9 +81,16 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   std::vector<std::size_t> index;  // usable match -> input index
   std::vector<cv::Point2d> p1, p2;
   std::vector<double> flow;
+  std::vector<Eigen::Vector3d> b1, b2;  // unit bearings (spherical mode)
+  const bool spherical = options_.spherical && camera_ && camera_->model_name() != "pinhole";
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::Vector2d a, b;
     if (!undistort(prev[i], &a) || !undistort(cur[i], &b)) continue;
+    if (spherical) {
+      Eigen::Vector3d u, v;
+      camera_->unproject(prev[i], &u), camera_->unproject(cur[i], &v);
+      b1.push_back(u.normalized()), b2.push_back(v.normalized());
+    }
     index.push_back(i);
     p1.emplace_back(a.x(), a.y()), p2.emplace_back(b.x(), b.y());
     flow.push_back((b - a).norm());
@@ -117,6 +127,10 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   }
 
   // 3. F by normalized 8-point + RANSAC, epipolar distance of every match.
+  if (spherical) {
+    c.status = classify_spherical(b1, b2, index, &c) ? ClassificationStatus::kEpipolar : ClassificationStatus::kNoFundamental;
+    return finish();
+  }
   cv::Mat inliers;
   const cv::Mat F = cv::findFundamentalMat(p1, p2, cv::FM_RANSAC, options_.ransac_threshold_px,
                                            options_.ransac_confidence, options_.ransac_max_iterations, inliers);
@@ -150,6 +164,130 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   }
   c.status = ClassificationStatus::kEpipolar;
   return finish();
+}
+
+namespace {
+
+// Essential matrix from ≥ 8 bearing pairs by linear least squares (b2ᵀ E b1 = 0, one row
+// kron(b2, b1) per pair), projected onto the essential manifold (singular values (1, 1, 0)).
+bool essential_8point(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                      const std::vector<int>& use, Eigen::Matrix3d* E) {
+  Eigen::MatrixXd A(use.size(), 9);
+  for (std::size_t r = 0; r < use.size(); ++r) {
+    const Eigen::Vector3d& a = b1[use[r]];
+    const Eigen::Vector3d& b = b2[use[r]];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) A(r, 3 * i + j) = b(i) * a(j);
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
+  const Eigen::VectorXd e = svd.matrixV().col(8);
+  Eigen::Matrix3d M;
+  M << e(0), e(1), e(2), e(3), e(4), e(5), e(6), e(7), e(8);
+  Eigen::JacobiSVD<Eigen::Matrix3d> s(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  *E = s.matrixU() * Eigen::Vector3d(1, 1, 0).asDiagonal() * s.matrixV().transpose();
+  return E->allFinite();
+}
+
+// Angle between b2 and the epipolar plane of b1 (normal E b1): asin(|b2·n| / |n|), b2 unit.
+double epipolar_angle(const Eigen::Matrix3d& E, const Eigen::Vector3d& b1, const Eigen::Vector3d& b2) {
+  const Eigen::Vector3d n = E * b1;
+  const double norm = n.norm();
+  return norm > 0.0 ? std::asin(std::min(1.0, std::abs(b2.dot(n)) / norm)) : std::numeric_limits<double>::infinity();
+}
+
+// Rotation R with b2 ≈ R b1 by least squares (Kabsch: SVD of Σ b2 b1ᵀ, det R = +1).
+Eigen::Matrix3d kabsch(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                       const std::vector<int>& use) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (int i : use) H += b2[i] * b1[i].transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> s(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Vector3d d(1, 1, (s.matrixU() * s.matrixV().transpose()).determinant() < 0 ? -1 : 1);
+  return s.matrixU() * d.asDiagonal() * s.matrixV().transpose();
+}
+
+// The rotation that explains the most bearings within max_angle (RANSAC on pairs, then a refit on
+// the inliers): under a (nearly) pure rotation E is ill-posed, but every static point, at any depth,
+// moves as R says.
+Eigen::Matrix3d ransac_rotation(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                                double max_angle, int iterations, std::mt19937* rng) {
+  const int m = static_cast<int>(b1.size());
+  const double cos_max = std::cos(max_angle);
+  Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
+  int best_count = -1;
+  std::uniform_int_distribution<int> pick(0, m - 1);
+  for (int it = 0; it < iterations; ++it) {
+    const int a = pick(*rng), b = pick(*rng);
+    if (a == b || b1[a].cross(b1[b]).norm() < 1e-3) continue;
+    const Eigen::Matrix3d R = kabsch(b1, b2, {a, b});
+    int count = 0;
+    for (int i = 0; i < m; ++i) count += b2[i].dot(R * b1[i]) >= cos_max;
+    if (count > best_count) best_count = count, best = R;
+  }
+  std::vector<int> inliers;
+  for (int i = 0; i < m; ++i)
+    if (b2[i].dot(best * b1[i]) >= cos_max) inliers.push_back(i);
+  return inliers.size() >= 2 ? kabsch(b1, b2, inliers) : best;
+}
+
+}  // namespace
+
+bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                                              const std::vector<std::size_t>& index, Classification* c) const {
+  const int m = static_cast<int>(b1.size());
+  const double f = fx_;  // pixels per radian at the centre (and radially everywhere, equidistant)
+  const double inlier_angle = options_.ransac_threshold_px / f;
+  std::mt19937 rng(0x5eed);  // fixed seed: the same matches give the same flags
+  std::vector<int> all(m), sample(8);
+  for (int i = 0; i < m; ++i) all[i] = i;
+  Eigen::Matrix3d best = Eigen::Matrix3d::Zero();
+  int best_count = -1;
+  double best_cost = std::numeric_limits<double>::infinity();
+  long iterations = options_.ransac_max_iterations;
+  for (long it = 0; it < iterations; ++it) {
+    for (int j = 0; j < 8; ++j) {  // partial Fisher-Yates: 8 distinct indices
+      std::uniform_int_distribution<int> pick(j, m - 1);
+      std::swap(all[j], all[pick(rng)]);
+      sample[j] = all[j];
+    }
+    Eigen::Matrix3d E;
+    if (!essential_8point(b1, b2, sample, &E)) continue;
+    int count = 0;
+    double cost = 0.0;  // MSAC: inliers cost their error, outliers the threshold
+    for (int i = 0; i < m; ++i) {
+      const double a = epipolar_angle(E, b1[i], b2[i]);
+      if (a <= inlier_angle) ++count, cost += a; else cost += inlier_angle;
+    }
+    if (cost < best_cost) {
+      best_cost = cost, best_count = count, best = E;
+      const double w = double(count) / m;  // adaptive number of iterations for the confidence
+      const double miss = 1.0 - std::pow(w, 8);
+      if (miss <= 0.0) break;
+      const double need = std::log(1.0 - options_.ransac_confidence) / std::log(miss);
+      iterations = std::min<long>(iterations, std::max<long>(100, static_cast<long>(std::ceil(3 * need))));
+    }
+  }
+  if (best_count < 8) return false;
+  std::vector<int> inliers;
+  for (int i = 0; i < m; ++i)
+    if (epipolar_angle(best, b1[i], b2[i]) <= inlier_angle) inliers.push_back(i);
+  if (options_.refit_on_inliers && inliers.size() >= 8) {
+    Eigen::Matrix3d E;
+    if (essential_8point(b1, b2, inliers, &E)) best = E;
+  }
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
+  K(0, 0) = fx_, K(1, 1) = fy_, K(0, 2) = cx_, K(1, 2) = cy_;
+  const Eigen::Matrix3d Kinv = K.inverse();
+  c->F = Kinv.transpose() * best * Kinv;  // the same constraint on the virtual pinhole
+  // A point that moves as the pure rotation says is static whatever E says (E is ill-posed when the
+  // translation is small); one that breaks both models is dynamic. d = min(epipolar, rotation) · f.
+  const Eigen::Matrix3d R = ransac_rotation(b1, b2, options_.threshold_px / f, 200, &rng);
+  for (int i = 0; i < m; ++i) {
+    const double rot = std::acos(std::clamp(b2[i].dot(R * b1[i]), -1.0, 1.0));
+    const double d = f * std::min(epipolar_angle(best, b1[i], b2[i]), rot);
+    c->distance_px[index[i]] = d;
+    c->flags[index[i]] = d > options_.threshold_px ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
+  }
+  return true;
 }
 
 }  // namespace slamkit

@@ -3,6 +3,7 @@
 #include "slamkit/vio/feature_tracker.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -24,6 +25,37 @@ void check_image(const GrayImage& image, const char* what) {
 
 }  // namespace
 
+double patch_ncc(const GrayImage& a, const Eigen::Vector2d& pa, const GrayImage& b, const Eigen::Vector2d& pb, int half) {
+  auto inside = [half](const GrayImage& g, const Eigen::Vector2d& p) {
+    return p.allFinite() && p.x() - half >= 0.0 && p.y() - half >= 0.0 && p.x() + half + 1 < g.width &&
+           p.y() + half + 1 < g.height;
+  };
+  if (half < 0 || !inside(a, pa) || !inside(b, pb)) return std::numeric_limits<double>::quiet_NaN();
+  // Bilinear sample at p + (dx, dy); the weights are the same for every sample of one patch.
+  auto sampler = [](const GrayImage& g, const Eigen::Vector2d& p) {
+    const int x0 = int(std::floor(p.x())), y0 = int(std::floor(p.y()));
+    const double fx = p.x() - x0, fy = p.y() - y0;
+    return [&g, x0, y0, fx, fy](int dx, int dy) {
+      const std::uint8_t* r0 = g.row(y0 + dy) + x0 + dx;
+      const std::uint8_t* r1 = r0 + g.width;
+      return (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
+    };
+  };
+  const auto sa = sampler(a, pa), sb = sampler(b, pb);
+  double s_a = 0, s_b = 0, s_aa = 0, s_bb = 0, s_ab = 0;
+  for (int dy = -half; dy <= half; ++dy)
+    for (int dx = -half; dx <= half; ++dx) {
+      const double u = sa(dx, dy), v = sb(dx, dy);
+      s_a += u, s_b += v, s_aa += u * u, s_bb += v * v, s_ab += u * v;
+    }
+  const double n = double(2 * half + 1) * (2 * half + 1);
+  const double va = s_aa - s_a * s_a / n, vb = s_bb - s_b * s_b / n, cab = s_ab - s_a * s_b / n;
+  const double flat = 1e-6 * n;  // variance of a constant patch, up to rounding
+  if (va <= flat && vb <= flat) return 1.0;
+  if (va <= flat || vb <= flat) return 0.0;
+  return cab / std::sqrt(va * vb);
+}
+
 void TrackingResult::matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eigen::Vector2d>* cur,
                              std::vector<std::int64_t>* ids) const {
   prev->clear(), cur->clear();
@@ -39,6 +71,7 @@ struct FeatureTracker::State {
   GrayImage mask;
   cv::Mat prev_image;              // a deep copy of the last frame
   std::vector<cv::Mat> prev_pyramid;
+  GrayImage prev_frame;            // the last frame as a plain buffer (appearance check)
   std::vector<TrackedFeature> features;
   std::int64_t next_id = 0;
 };
@@ -51,6 +84,8 @@ FeatureTracker::FeatureTracker(FeatureTrackerOptions o, GrayImage mask) : option
     throw std::invalid_argument("feature tracker: klt_window >= 3, klt_pyramid_levels >= 0, klt_max_iterations >= 1, block_size >= 1");
   if (o.grid_cols < 0 || o.grid_rows < 0 || (o.grid_cols > 0) != (o.grid_rows > 0))
     throw std::invalid_argument("feature tracker: grid_cols and grid_rows must both be 0 or both > 0");
+  if (o.patch_half_px < 1 || !(o.min_patch_ncc <= 1.0))
+    throw std::invalid_argument("feature tracker: patch_half_px must be >= 1 and min_patch_ncc <= 1");
   if (!mask.empty()) check_image(mask, "the mask");
   state_->mask = std::move(mask);
 }
@@ -146,6 +181,10 @@ TrackingResult FeatureTracker::track(const GrayImage& frame) {
       }
       const double x = p1[i].x, y = p1[i].y, b = o.border_px;
       if (!(x >= b && y >= b && x < frame.width - b && y < frame.height - b)) { ++r.lost_border; continue; }
+      if (o.min_patch_ncc > -1.0) {  // NaN (patch at the border): no verdict, kept
+        const double ncc = patch_ncc(s.prev_frame, s.features[i].uv, frame, Eigen::Vector2d(x, y), o.patch_half_px);
+        if (ncc < o.min_patch_ncc) { ++r.lost_appearance; continue; }
+      }
       TrackedFeature t = s.features[i];
       t.prev_uv = t.uv;
       t.uv = Eigen::Vector2d(x, y);
@@ -200,6 +239,7 @@ TrackingResult FeatureTracker::track(const GrayImage& frame) {
   }
   r.features = s.features;
   s.prev_image = image;
+  if (o.min_patch_ncc > -1.0) s.prev_frame = frame;
   s.prev_pyramid = std::move(pyramid);
   return r;
 }

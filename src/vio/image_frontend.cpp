@@ -31,6 +31,8 @@ ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const
     throw std::invalid_argument("ImageFrontend: baseline_threshold_exponent must be in [0, 1]");
   if (options_.consistency_checks < 1 || options_.consistency_checks > 16)
     throw std::invalid_argument("ImageFrontend: consistency_checks must be in 1..16");
+  if (!(options_.min_patch_ncc_baseline <= 1.0))
+    throw std::invalid_argument("ImageFrontend: min_patch_ncc_baseline must be <= 1");
   if (options_.consistency_hits < 1 || options_.consistency_hits > options_.consistency_checks)
     throw std::invalid_argument("ImageFrontend: consistency_hits must be in 1..consistency_checks");
 }
@@ -84,8 +86,28 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
       FrontendFeature& f = out.features[index[m]];
       if (baseline[index[m]] != b) continue;
       f.motion = c.flags[m];
+      f.distance_px = c.distance_px[m];
       f.baseline = b;
       f.uv_then = p1[m];
+    }
+  }
+  // Appearance over the tested baseline: reject the tracks whose patch changed (see the header).
+  if (options_.min_patch_ncc_baseline > -1.0) {
+    std::vector<std::int64_t> rejected;
+    std::vector<char> keep(out.features.size(), 1);
+    for (std::size_t i = 0; i < out.features.size(); ++i) {
+      const FrontendFeature& f = out.features[i];
+      if (f.baseline < 1 || f.baseline > static_cast<int>(frames_.size())) continue;
+      const double ncc = patch_ncc(frames_[f.baseline - 1], f.uv_then, frame, f.uv, options_.tracker.patch_half_px);
+      if (ncc < options_.min_patch_ncc_baseline) keep[i] = 0, rejected.push_back(f.id);  // NaN: kept
+    }
+    if (!rejected.empty()) {
+      tracker_.drop(rejected);
+      std::size_t w = 0;
+      for (std::size_t i = 0; i < out.features.size(); ++i)
+        if (keep[i]) out.features[w] = out.features[i], out.tracking.features[w] = out.tracking.features[i], ++w;
+      out.features.resize(w), out.tracking.features.resize(w);
+      out.n_rejected_appearance = static_cast<int>(rejected.size());
     }
   }
   // Consistency over the track's last tests, then sticky flags; bookkeeping of the current ids only.
@@ -121,6 +143,10 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
   for (const TrackedFeature& f : tracked) now.emplace(f.id, f.uv);
   history_.push_front(std::move(now));
   while (static_cast<int>(history_.size()) > k) history_.pop_back();
+  if (options_.min_patch_ncc_baseline > -1.0) {
+    frames_.push_front(frame);
+    while (static_cast<int>(frames_.size()) > k) frames_.pop_back();
+  }
   out.classification_ms = ms_since(t1);
   return out;
 }

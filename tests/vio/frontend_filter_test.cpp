@@ -82,7 +82,8 @@ TEST(DynamicFeatureFilter, MovingCameraAndRigidGroupOnFisheyeTracks) {
     }
     const DetectionScore by_pixel = score_against_labels(s.cur, c.flags, labels, so);
     const DetectionScore by_feature = score_against_feature_labels(s.label, c.flags, so);
-    EXPECT_EQ(by_pixel.true_positive, by_feature.true_positive);
+    // A flagged static feature rounding onto a mover's labelled pixel counts as a hit by pixel.
+    EXPECT_NEAR(by_pixel.true_positive, by_feature.true_positive, 1);
     EXPECT_EQ(by_pixel.excluded, by_feature.excluded);
     total += by_feature;
   }
@@ -110,6 +111,32 @@ TEST(DynamicFeatureFilter, WithoutTheDynamicGroupNearlyNothingIsFlagged) {
   Eigen::Vector2d a, b;
   ASSERT_TRUE(filter.undistort(s.prev[0], &a) && filter.undistort(s.cur[0], &b));
   EXPECT_LT(std::abs(b.homogeneous().dot(c.F * a.homogeneous())) / (c.F * a.homogeneous()).head<2>().norm(), 1.0);
+}
+
+// A camera that only turns (E is ill-posed: any translation direction fits) with points out to the
+// fisheye's rim: the rotation model keeps every static point static, the spherical test and the
+// movers are still found (E is free to absorb some of them); repeated runs agree (seeded RANSAC).
+TEST(DynamicFeatureFilter, PureRotationOnTheFisheyeRimRaisesNoFalseAlarms) {
+  const auto cam = tumvi_camera();
+  DynamicFeatureFilter filter({}, cam);
+  std::mt19937 rng(11);
+  long false_alarms = 0, hits = 0, movers = 0, statics = 0;
+  for (int frame = 0; frame < 10; ++frame) {
+    const SE3 T0 = SE3::exp((Eigen::Matrix<double, 6, 1>() << 0, 0, 0, 0.02 * frame, 0.1, 0).finished());
+    const SE3 T1 = SE3::exp((Eigen::Matrix<double, 6, 1>() << 0, 0, 0, 0.01, 0.02, 0.01).finished()) * T0;
+    const TrackScene s = make_scene(*cam, T0, T1, Eigen::Vector3d(0.15, 0, 0), Eigen::Vector3d::Zero(), 0.2, &rng);
+    const Classification c = filter.classify(s.prev, s.cur);
+    ASSERT_EQ(c.status, ClassificationStatus::kEpipolar);
+    EXPECT_EQ(c.flags, filter.classify(s.prev, s.cur).flags);
+    for (std::size_t i = 0; i < s.label.size(); ++i) {
+      const bool dyn = c.flags[i] == FeatureMotion::kDynamic;
+      if (s.label[i] == 0) ++statics, false_alarms += dyn;
+      if (s.label[i] == 1) ++movers, hits += dyn;
+    }
+  }
+  ASSERT_GT(statics, 500);
+  EXPECT_LE(false_alarms, statics / 100);  // ≤ 1 %
+  EXPECT_GE(hits, movers * 7 / 10);  // 0.75 measured: under pure rotation E can absorb a mover too
 }
 
 TEST(DynamicFeatureFilter, StaticCameraIsClassifiedByFlowAgainstTheDominantMotion) {

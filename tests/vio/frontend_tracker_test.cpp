@@ -114,6 +114,22 @@ TEST(FeatureTracker, MaskKeepsCornersOutAndDropFreesNeighbourhoods) {
   for (int q : quadrant) EXPECT_GE(q, 5);
 }
 
+TEST(FeatureTracker, PatchNccIsGainInvariantAndSeesAChangedPatch) {
+  GrayImage a(64, 64), b(64, 64), c(64, 64);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const int v = (x * 7 + y * 13) % 50 + ((x / 4 + y / 4) % 2) * 60;
+      a.at(x, y) = std::uint8_t(v);
+      b.at(x, y) = std::uint8_t(2 * v + 10);                      // gain and bias
+      c.at(x, y) = std::uint8_t(x < 32 ? v : (x * 3 + y * 29) % 110);  // right half replaced
+    }
+  const Eigen::Vector2d p(32.0, 32.0);
+  EXPECT_NEAR(patch_ncc(a, p, b, p, 7), 1.0, 1e-9);
+  EXPECT_LT(patch_ncc(a, p, c, p, 7), 0.8);
+  EXPECT_TRUE(std::isnan(patch_ncc(a, Eigen::Vector2d(3, 3), b, p, 7)));  // patch leaves the image
+  EXPECT_NEAR(patch_ncc(GrayImage(64, 64, 9), p, GrayImage(64, 64, 200), p, 7), 1.0, 0.0);  // both flat
+}
+
 TEST(FeatureTracker, BadInputIsAClearErrorOrAHandledCondition) {
   const RectTexture tex(80, 128, 13);
   // A mask of the wrong size.
@@ -165,7 +181,9 @@ TEST(FeatureTracker, AmbiguityCheckRemovesWallpaperMismatches) {
   FeatureTrackerOptions strict;
   strict.ambiguity_px = 2.0, strict.ambiguity_ratio = 0.3, strict.forward_backward_px = 0.3;
   int n_default = 0, n_strict = 0;
-  const double before = share_dynamic(FeatureTrackerOptions{}, &n_default);
+  FeatureTrackerOptions unchecked;  // the check off (the default before session 23)
+  unchecked.ambiguity_px = 0.0;
+  const double before = share_dynamic(unchecked, &n_default);
   const double after = share_dynamic(strict, &n_strict);
   std::printf("aloe: default %.3f of %d, ambiguity check %.3f of %d\n", before, n_default, after, n_strict);
   EXPECT_GT(before, 0.1);  // measured 0.139 of 108 (the CLI: 15 of 107)

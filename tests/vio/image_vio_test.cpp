@@ -45,8 +45,9 @@ struct RenderedRun {
     ro.mask_radius_px = 150.0;
     renderer = std::make_unique<ImageRenderer>(scene, *sim.camera, ro);
   }
-  ImageVioOptions vio(int baseline, int checks = 1, int hits = 1) const {
+  ImageVioOptions vio(int baseline, int checks = 1, int hits = 1, bool spherical = true) const {
     ImageVioOptions o;
+    o.frontend.filter.spherical = spherical;
     o.frontend.baseline_frames = baseline;
     o.frontend.consistency_checks = checks;
     o.frontend.consistency_hits = hits;
@@ -57,7 +58,7 @@ struct RenderedRun {
   }
   // Frames are rendered once and reused by every front-end run of the test.
   mutable std::vector<GrayImage> images, labels;
-  VisualInertialSim track(int baseline, ImageVioReport* report, int checks = 1, int hits = 1) const {
+  VisualInertialSim track(int baseline, ImageVioReport* report, int checks = 1, int hits = 1, bool spherical = true) const {
     if (images.empty()) {
       images.resize(sim.frames.size()), labels.resize(sim.frames.size());
       const FrameImageSource render = rendered_frames(sim, *renderer, nullptr);
@@ -66,7 +67,7 @@ struct RenderedRun {
     const FrameImageSource cached = [this](std::size_t k, GrayImage* image, GrayImage* label) {
       *image = images[k], *label = labels[k];
     };
-    return track_images(sim, cached, walker_speeds(scene), vio(baseline, checks, hits), report);
+    return track_images(sim, cached, walker_speeds(scene), vio(baseline, checks, hits, spherical), report);
   }
 };
 
@@ -116,12 +117,15 @@ TEST(ImageFrontend, ConsistencyRuleCountsTheLastChecks) {
 }
 
 // On rendered frames the 2-of-3 rule removes false alarms of the single test (isolated crossings
-// of the threshold by static tracks) and keeps most of the movers.
+// of the threshold by static tracks) and keeps most of the movers. Measured with the virtual-pinhole
+// F (spherical = false), whose false alarms it was made for: with the bearing test (the default since
+// session 23) the single test is at precision 0.911 recall 0.810 false-alarm rate 0.0049 here and
+// 2 of 3 no longer lowers it (0.890 / 0.616 / 0.0046).
 TEST(ImageFrontend, ConsistencyCutsFalseAlarms) {
   const RenderedRun run(4.0, 2);
   ImageVioReport single, consistent;
-  run.track(4, &single, 1, 1);
-  run.track(4, &consistent, 3, 2);
+  run.track(4, &single, 1, 1, false);
+  run.track(4, &consistent, 3, 2, false);
   const DetectionScore& a = single.score;
   const DetectionScore& b = consistent.score;
   const auto fp_rate = [](const DetectionScore& s) { return double(s.false_positive) / std::max(1L, s.false_positive + s.true_negative); };

@@ -49,6 +49,11 @@ struct DynamicFilterOptions {
   int min_matches = 8;                ///< the 8-point algorithm's minimum
   double static_camera_flow_px = 0.5;  ///< median flow below this ⇒ camera static (step 2); < 0 disables
   double min_bearing_z = 0.1;         ///< fisheye bearings closer to the image plane are unknown
+  /// Non-pinhole camera: estimate the essential matrix on the unit bearings (8-point in RANSAC,
+  /// seeded, refit on the inliers) and score the angle between b2 and the epipolar plane of b1,
+  /// times fx, in pixels, instead of F on the virtual pinhole (whose rim magnification, 1/cos²θ,
+  /// lets the rim points either leave the RANSAC or dominate the fit; docs/frontend.md).
+  bool spherical = true;
 };
 
 struct Classification {
@@ -76,6 +81,9 @@ class DynamicFeatureFilter {
  private:
   /// ∂(virtual pixel)/∂(raw pixel) at uv by central differences; false for a pinhole (J = I).
   bool undistort_jacobian(const Eigen::Vector2d& uv, Eigen::Matrix2d* J) const;
+  /// Step 3 on bearings (spherical): fills c's distances, flags, F; false if no model was found.
+  bool classify_spherical(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                          const std::vector<std::size_t>& index, Classification* c) const;
   DynamicFilterOptions options_;
   std::shared_ptr<const CameraModel> camera_;
   double fx_ = 1, fy_ = 1, cx_ = 0, cy_ = 0;

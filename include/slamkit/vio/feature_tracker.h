@@ -8,6 +8,10 @@
 //            its new position lies at least border_px inside the image; under large motion
 //            (median flow > median_flow_retry_px) KLT runs a second time from the median flow and
 //            each feature keeps the candidate with the lower photometric residual
+//   appearance  a track whose patch about its new position does not look like the patch about
+//            its old one (zero-mean NCC < min_patch_ncc) is lost: the corner is no surface point
+//            (an occlusion edge or a T-junction of surfaces at different depths, whose background
+//            slides behind the foreground edge) or KLT slipped (docs/frontend.md)
 //   refill   each frame, new corners are detected until max_features are tracked.
 // Every feature keeps its id (increasing from 0, never reused) while it is tracked.
 #pragma once
@@ -40,14 +44,23 @@ struct FeatureTrackerOptions {
   /// converge, lie more than this apart and their residuals are within ambiguity_ratio of each
   /// other, the match is ambiguous (two motifs of a repeated texture fit) and the track is lost
   /// (counted in lost_klt); ≤ 0 disables it.
-  double ambiguity_px = 0.0;
-  double ambiguity_ratio = 0.5;  ///< min(residual) / max(residual) above this ⇒ ambiguous
+  double ambiguity_px = 2.0;
+  double ambiguity_ratio = 0.3;  ///< min(residual) / max(residual) above this ⇒ ambiguous (2 px / 0.3 since session 23)
   /// > 0: a track whose KLT photometric residual exceeds this × the frame's median residual is
   /// lost (counted in lost_klt). Off by default: it removes KLT mismatches on rigid scenes but
   /// also the tracks on deforming movers (docs/frontend.md).
   double max_residual_ratio = 0.0;
   double border_px = 1.0;         ///< tracks closer than this to the image border are dropped
+  /// Appearance check between the previous and the current frame: a track whose zero-mean NCC
+  /// (patch_ncc, half size patch_half_px) is below this is lost (lost_appearance); ≤ -1 disables it.
+  double min_patch_ncc = -1.0;
+  int patch_half_px = 7;          ///< NCC patch (2h+1)²
 };
+
+/// Zero-mean normalized cross-correlation of the (2·half+1)² patches about pa in a and pb in b
+/// (bilinear samples, gain and bias invariant), in [-1, 1]; NaN if a patch leaves its image;
+/// 1 if both patches are flat (no texture: nothing to disagree on).
+double patch_ncc(const GrayImage& a, const Eigen::Vector2d& pa, const GrayImage& b, const Eigen::Vector2d& pb, int half);
 
 struct TrackedFeature {
   std::int64_t id = -1;
@@ -62,6 +75,7 @@ struct TrackingResult {
   int lost_klt = 0;          ///< KLT status 0 (not found)
   int lost_forward_backward = 0;
   int lost_border = 0;
+  int lost_appearance = 0;   ///< patch NCC with the previous frame below min_patch_ncc
   int detected = 0;          ///< new corners this frame
   /// The previous/current pixel pairs of the tracked features, the input of DynamicFeatureFilter.
   void matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eigen::Vector2d>* cur,

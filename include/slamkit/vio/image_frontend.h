@@ -19,6 +19,12 @@
 // New features (age 0) are unknown. With sticky_dynamic a track once flagged dynamic stays so
 // (moving objects rarely stop; a flag lost at a short baseline is not a change of motion).
 // The threshold grows with the baseline b as b^baseline_threshold_exponent (√b by default).
+// Appearance over the baseline: a tested track whose patch at t (about p_t) and at t − b (about
+// p_{t−b}, in frame t − b) correlate below min_patch_ncc_baseline (zero-mean NCC) is rejected
+// (dropped from the tracker, not in the result): a corner that is no 3D surface point (a T-junction
+// of surfaces at different depths, an occlusion edge, a walker's silhouette) changes its patch as
+// the background slides behind the edge, while a surface point, static or on a rigid mover, keeps it.
+// Its epipolar distance is not a point's motion, so neither flag would be right.
 // M = static / (static + dynamic) over the features of the frame.
 #pragma once
 
@@ -49,6 +55,9 @@ struct ImageFrontendOptions {
   /// 2 of 3 with hysteresis raised precision by ≤ 0.015 and cut recall by 0.05–0.08 (docs/frontend.md).
   int consistency_checks = 1;   ///< n: the last n epipolar tests of a track are kept (1..16)
   int consistency_hits = 1;     ///< dynamic iff ≥ this many of them exceed the threshold (1..n)
+  /// Appearance check over the tested baseline (see above); ≤ -1 disables it. The patch half size
+  /// is tracker.patch_half_px.
+  double min_patch_ncc_baseline = -1.0;
 };
 
 struct FrontendFeature {
@@ -57,6 +66,7 @@ struct FrontendFeature {
   FeatureMotion motion = FeatureMotion::kUnknown;
   int baseline = 0;  ///< frames between the two views it was classified on (0: not classified)
   Eigen::Vector2d uv_then = Eigen::Vector2d::Zero();  ///< its pixel `baseline` frames ago (baseline > 0)
+  double distance_px = 0.0;  ///< epipolar distance (or static-camera flow residual) of this frame's test; NaN if none
   int hits = 0;      ///< tests over the threshold among the track's last consistency_checks
   int checks = 0;    ///< tests kept (≤ consistency_checks)
 };
@@ -66,6 +76,7 @@ struct FrontendFrameResult {
   TrackingResult tracking;  ///< counts of the tracker (its features are the same as above)
   double static_ratio = 1.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0;
+  int n_rejected_appearance = 0;  ///< tracks rejected by the appearance check over the baseline
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
   double tracking_ms = 0.0, classification_ms = 0.0;  ///< wall clock
@@ -88,6 +99,7 @@ class ImageFrontend {
   DynamicFeatureFilter filter_long_;  ///< baseline k (threshold · k^e)
   /// history_[j]: positions of the features tracked in frame t − 1 − j (j < k).
   std::deque<std::unordered_map<std::int64_t, Eigen::Vector2d>> history_;
+  std::deque<GrayImage> frames_;  ///< frames_[j]: frame t − 1 − j (only with the appearance check)
   std::unordered_set<std::int64_t> flagged_dynamic_;
   /// Per live track: bit i = the test i frames ago exceeded the threshold; and the number of tests.
   struct TestHistory {
