@@ -31,6 +31,23 @@ bool dense_cholesky(double* a) {
   return true;
 }
 
+// B ← B L⁻ᵀ (X Lᵀ = B) for a lower-triangular D×D L, column by column:
+// X(:, c) = (B(:, c) − Σ_{m<c} X(:, m) L(c, m)) / L(c, c). (Eigen's general triangular
+// solver packs and blocks even 3×3 operands.)
+template <int D>
+void right_solve_lower_transpose(const double* l, double* b) {
+  for (int c = 0; c < D; ++c) {
+    double* bc = b + c * D;
+    for (int m = 0; m < c; ++m) {
+      const double f = l[m * D + c];  // L(c, m)
+      const double* xm = b + m * D;
+      for (int r = 0; r < D; ++r) bc[r] -= xm[r] * f;
+    }
+    const double d = l[c * D + c];
+    for (int r = 0; r < D; ++r) bc[r] /= d;
+  }
+}
+
 }  // namespace
 
 bool BlockCholesky::supports(const BlockSparseMatrix& A) {
@@ -159,11 +176,7 @@ bool BlockCholesky::factorize_fixed(const BlockSparseMatrix& A) {
     }
     if (!dense_cholesky<D>(Djj.data())) return false;
     // L(i, j) = (updated A(i, j)) L(j, j)⁻ᵀ.
-    const auto Ut = Djj.template triangularView<Eigen::Lower>().transpose();
-    for (int q = 0; q < cnt; ++q) {
-      Map B(lj + static_cast<std::ptrdiff_t>(q) * DD);
-      Ut.template solveInPlace<Eigen::OnTheRight>(B);
-    }
+    for (int q = 0; q < cnt; ++q) right_solve_lower_transpose<D>(Djj.data(), lj + static_cast<std::ptrdiff_t>(q) * DD);
     if (cnt > 0) {
       next_[j] = c0;
       link_[j] = head_[rows_[c0]];
