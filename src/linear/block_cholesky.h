@@ -5,9 +5,9 @@
 // and scatters one value, and its symbolic analysis runs on the scalar pattern (D² times the
 // block pattern's entries). Here the elimination tree, the pattern of L and every update are
 // per block: L(i, j) −= L(i, k) L(j, k)ᵀ is one fixed-size D×D product. It serves the sparse
-// factors (2D pose graphs, the initialization's systems) where CHOLMOD itself would choose its
-// simplicial method (flops / nnz(L) < 40, the same rule on the same scalar counts); denser
-// factors keep CHOLMOD's supernodal (BLAS-3) path.
+// factors (2D pose graphs, parking-garage, the initialization's systems: scalar flops / nnz(L)
+// below cholmod_cholesky.cpp's kBlockSwitch, on the counts CHOLMOD computes); denser factors
+// keep CHOLMOD's supernodal (BLAS-3) path.
 //
 // Symbolic analysis (Liu's elimination tree on the block graph, row patterns of L by row
 // subtrees): O(nnz(L) blocks). Numeric factorization: left-looking by block columns, with the
