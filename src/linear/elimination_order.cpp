@@ -25,15 +25,24 @@ void upper_pattern(int n, const std::vector<std::pair<int, int>>& edges, std::ve
     if (a != b) e.emplace_back(std::min(a, b), std::max(a, b));
   }
   for (int i = 0; i < n; ++i) e.emplace_back(i, i);
-  std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) {
-    return x.second != y.second ? x.second < y.second : x.first < y.first;
-  });
-  e.erase(std::unique(e.begin(), e.end()), e.end());
+  // Sorted by (column, row): two stable counting sorts, by row and then by column.
+  std::vector<std::pair<int, int>> by_row(e.size());
+  std::vector<int> start(static_cast<std::size_t>(n) + 1);
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::vector<std::pair<int, int>>& from = pass == 0 ? e : by_row;
+    std::vector<std::pair<int, int>>& to = pass == 0 ? by_row : e;
+    std::fill(start.begin(), start.end(), 0);
+    for (const auto& p : from) ++start[(pass == 0 ? p.first : p.second) + 1];
+    for (int k = 0; k < n; ++k) start[k + 1] += start[k];
+    for (const auto& p : from) to[start[pass == 0 ? p.first : p.second]++] = p;
+  }
   col_ptr->assign(n + 1, 0);
   rows->clear();
-  for (const auto& [i, j] : e) {
-    ++(*col_ptr)[j + 1];
-    rows->push_back(i);
+  rows->reserve(e.size());
+  for (std::size_t q = 0; q < e.size(); ++q) {
+    if (q > 0 && e[q] == e[q - 1]) continue;  // duplicate edge
+    ++(*col_ptr)[e[q].second + 1];
+    rows->push_back(e[q].first);
   }
   for (int j = 0; j < n; ++j) (*col_ptr)[j + 1] += (*col_ptr)[j];
 }
@@ -95,16 +104,25 @@ EliminationOrder eigen_amd(int n, const std::vector<int>& col_ptr, const std::ve
 std::vector<int> postorder(int n, const std::vector<std::pair<int, int>>& edges, const std::vector<int>& order) {
   std::vector<int> label(n);  // node → position in `order`
   for (int k = 0; k < n; ++k) label[order[k]] = k;
-  std::vector<std::vector<int>> lower(n);  // by position: neighbours at earlier positions
-  for (auto [a, b] : edges) {
-    const int la = label[a], lb = label[b];
-    if (la < lb) lower[lb].push_back(la);
-    if (lb < la) lower[la].push_back(lb);
+  // By position: the neighbours at earlier positions, in edge order (flat arrays, counting sort).
+  std::vector<int> lower_start(static_cast<std::size_t>(n) + 1, 0), lower;
+  for (auto [a, b] : edges)
+    if (a != b) ++lower_start[std::max(label[a], label[b]) + 1];
+  for (int k = 0; k < n; ++k) lower_start[k + 1] += lower_start[k];
+  lower.resize(lower_start[n]);
+  {
+    std::vector<int> fill(lower_start.begin(), lower_start.end() - 1);
+    for (auto [a, b] : edges) {
+      const int la = label[a], lb = label[b];
+      if (la < lb) lower[fill[lb]++] = la;
+      if (lb < la) lower[fill[la]++] = lb;
+    }
   }
   // Elimination tree (Liu's algorithm with path compression).
   std::vector<int> parent(n, -1), ancestor(n, -1);
   for (int k = 0; k < n; ++k) {
-    for (int i : lower[k]) {
+    for (int q = lower_start[k]; q < lower_start[k + 1]; ++q) {
+      const int i = lower[q];
       int r = i;
       while (ancestor[r] != -1 && ancestor[r] != k) {
         const int next = ancestor[r];

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 
 #include "slamkit/core/error.h"
@@ -103,8 +104,11 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   auto strategy = detail::make_step_strategy(options_);
   Values x = values, candidate = values;
   // Best iterate so far: Gauss-Newton may pass through worse points; it never ends on one.
+  // Kept as the flat parameter array (Values stores all parameters contiguously from
+  // params(0)): no copy of the key index per improving step.
   const bool safeguard = options_.algorithm == Algorithm::kGaussNewton && options_.gn_patience > 0;
-  Values best = values;
+  std::vector<double> best = values.parameter_data();
+  auto restore_best = [&best](Values& into) { std::copy(best.begin(), best.end(), into.params(0)); };
   int non_improving = 0;
   OptimizerOptions fallback_options;
 
@@ -178,14 +182,14 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
         ++s.accepted_steps;
         if (cost < best_cost) {
           best_cost = cost;
-          best = x;
+          best = x.parameter_data();
           non_improving = 0;
         } else {
           ++non_improving;
         }
         if (safeguard && s.fallback_iteration == 0 && non_improving >= options_.gn_patience) {
           // Gauss-Newton is not converging: continue from the best iterate with LM.
-          x = best;
+          restore_best(x);
           cost = best_cost;
           s.fallback_iteration = iter;
           fallback_options = options_;
@@ -245,7 +249,7 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
       s.message = "reached max_iterations = " + std::to_string(options_.max_iterations);
   }
   if (best_cost < cost) {  // only Gauss-Newton can end above its best iterate
-    x = std::move(best);
+    restore_best(x);
     cost = best_cost;
     s.message += "; returned the best iterate seen";
   }

@@ -3,7 +3,6 @@
 #include <Eigen/SVD>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <unordered_map>
 
 #include "slamkit/core/error.h"
@@ -54,29 +53,40 @@ PoseIndex index_poses(const PoseGraph& g, const std::vector<std::int64_t>& gauge
 // per pose (−1 for roots/unreached) and the visiting order.
 void spanning_tree(const PoseGraph& g, const PoseIndex& ix, std::vector<int>* parent_edge, std::vector<int>* order) {
   const std::size_t n = ix.vertex.size();
-  std::vector<std::vector<int>> incident(n);
+  // Incident edges of pose a, ascending: incident[start[a] .. start[a + 1]) (counting sort).
+  std::vector<int> start(n + 1, 0), incident;
   for (std::size_t e = 0; e < g.edges.size(); ++e) {
     const auto [a, b] = ix.ends[e];
     if (a < 0 || a == b) continue;
-    incident[a].push_back(static_cast<int>(e));
-    incident[b].push_back(static_cast<int>(e));
+    ++start[a + 1], ++start[b + 1];
+  }
+  for (std::size_t k = 0; k < n; ++k) start[k + 1] += start[k];
+  incident.resize(start[n]);
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t e = 0; e < g.edges.size(); ++e) {
+      const auto [a, b] = ix.ends[e];
+      if (a < 0 || a == b) continue;
+      incident[fill[a]++] = static_cast<int>(e);
+      incident[fill[b]++] = static_cast<int>(e);
+    }
   }
   parent_edge->assign(n, -1);
   std::vector<char> seen(n, 0);
-  std::deque<int> queue;
+  // The visiting order is the queue: poses are appended when reached, visited front to back.
   order->clear();
+  order->reserve(n);
   for (std::size_t k = 0; k < n; ++k)
-    if (ix.gauge[k]) seen[k] = 1, queue.push_back(static_cast<int>(k));
-  while (!queue.empty()) {
-    const int a = queue.front();
-    queue.pop_front();
-    order->push_back(a);
-    for (int e : incident[a]) {
+    if (ix.gauge[k]) seen[k] = 1, order->push_back(static_cast<int>(k));
+  for (std::size_t head = 0; head < order->size(); ++head) {
+    const int a = (*order)[head];
+    for (int q = start[a]; q < start[a + 1]; ++q) {
+      const int e = incident[q];
       const int b = ix.ends[e].first == a ? ix.ends[e].second : ix.ends[e].first;
       if (seen[b]) continue;
       seen[b] = 1;
       (*parent_edge)[b] = e;
-      queue.push_back(b);
+      order->push_back(b);
     }
   }
 }
