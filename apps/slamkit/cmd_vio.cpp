@@ -38,7 +38,7 @@ struct VioCliOptions {
   int max_iterations = 4;  // measured: 4 beats 8 on ATE and time (docs/vio.md)
   int threads = 1;         // window solver threads (results identical for any count)
   bool quiet = false;
-  std::string dvi = "off", alpha = "M", theta = "0.5", solver = "dense";
+  std::string dvi = "off", alpha = "M^2", theta = "0.5", solver = "dense";
   bool images = false;  // issue 13: the front end on rendered images (vio_images.h)
   VioImageCliOptions image;
 };
