@@ -9,7 +9,7 @@
 # Usage: bench/vio_dvi_images.sh [BUILD_DIR] [SEEDS] [DURATION_S] ["room1 room2 ..."] ["VIO OPTIONS"]
 # WORK=DIR keeps the per-run JSON there (two instances on disjoint sequences may share it);
 # IMAGES=DIR keeps the rendered folders there and reuses them; FIRST_SEED=N starts at seed N
-# (with WORK, a later call can add seeds); SUMMARY_ONLY=1 only summarizes the runs already in WORK (SEEDS is then the number of seeds expected).
+# (with WORK, a later call can add seeds); LEVELS="high" runs one level only (default "low high"); SUMMARY_ONLY=1 only summarizes the runs already in WORK (SEEDS is then the number of seeds expected).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=${1:-$here/../build}
@@ -22,7 +22,7 @@ slamkit=$build/bin/slamkit
 if [ -n "${WORK:-}" ]; then work=$WORK; mkdir -p "$work"; else work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi
 [ "${SUMMARY_ONLY:-0}" = 1 ] && seqs_run="" || seqs_run=$seqs
 for seq in $seqs_run; do
-  for level in low high; do
+  for level in ${LEVELS:-low high}; do
     for seed in $(seq "${FIRST_SEED:-1}" "$seeds"); do
       name=${seq//:/_}_${level}_$seed
       img=${IMAGES:-$work}/$name.images
@@ -71,6 +71,7 @@ for seq in seqs:
                                  "dvi_pipeline_cpu_ms_per_frame": x["dvi_pipeline_cpu_ms_per_frame"],
                                  "dvi_pipeline_realtime_factor_cpu": x["dvi_pipeline_realtime_factor_cpu"],
                                  "static_ratio": x["frontend"]["static_ratio"], "load_average": x.get("load_average"),
+                                 "frames_static_below_theta": x.get("frames_static_below_theta"),
                                  "image_ms_per_frame": x["frontend"]["image_ms_per_frame"],
                                  "tracking_ms_per_frame": x["frontend"]["tracking_ms_per_frame"],
                                  "classification_ms_per_frame": x["frontend"]["classification_ms_per_frame"],

@@ -7,10 +7,12 @@
 // Prints a progress line every second of data; the JSON is an ATE run document (SE(3)
 // alignment, the input of `slamkit report`) with the VIO keys of issue 12 on top.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <vector>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -36,7 +38,7 @@ struct VioCliOptions {
   int max_iterations = 4;  // measured: 4 beats 8 on ATE and time (docs/vio.md)
   int threads = 1;         // window solver threads (results identical for any count)
   bool quiet = false;
-  std::string dvi = "off", alpha = "M", theta = "0.5", solver = "dense";
+  std::string dvi = "off", alpha = "M^2", theta = "0.5", solver = "dense";
   bool images = false;  // issue 13: the front end on rendered images (vio_images.h)
   VioImageCliOptions image;
 };
@@ -138,6 +140,17 @@ void run_vio(const VioCliOptions& o) {
   j["dvi"] = {{"enabled", so.dvi.enabled}, {"alpha", o.alpha}, {"theta", o.theta}};
   j["static_ratio"] = {{"mean", m_sum / nf}, {"min", m_min}};
   j["visual_frames_dropped"] = dropped;
+  // M per frame (front-end flags, either mode) and its stretches below θ (the fixed θ).
+  std::vector<double> m_frames;
+  std::size_t below = 0, run = 0, longest = 0, stretches = 0;
+  for (const FrameEstimate& e : r.frames) {
+    m_frames.push_back(std::round(1e3 * e.static_ratio) * 1e-3);
+    const bool low = e.static_ratio < so.dvi.theta;
+    below += low, stretches += low && run == 0;
+    run = low ? run + 1 : 0, longest = std::max(longest, run);
+  }
+  j["static_ratio_frames"] = m_frames;
+  j["frames_static_below_theta"] = {{"frames", below}, {"stretches", stretches}, {"longest_frames", longest}};
   if (o.images) {
     j["frontend"] = frontend;
     j["dynamic_precision"] = frontend["dynamic_precision"];

@@ -8,11 +8,82 @@
 namespace slamkit {
 namespace {
 
-std::mt19937_64 scene_rng(std::uint64_t seed) {
-  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + 5 * 0xBF58476D1CE4E5B9ULL + 0x94D049BB133111EBULL;
+// Stream `which` of a seed (5: the scene, 6: the crowd bursts), splitmix-style.
+std::mt19937_64 scene_rng(std::uint64_t seed, std::uint64_t which) {
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + which * 0xBF58476D1CE4E5B9ULL + 0x94D049BB133111EBULL;
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
   return std::mt19937_64(z ^ (z >> 31));
+}
+
+// Crowd bursts (header): platoons of queues crossing the camera's view, appended to scene->walkers.
+void add_crowd_bursts(const VisualInertialSim& sim, const BSplineTrajectory& trajectory, std::uint64_t seed,
+                      const RenderedSceneOptions& o, const std::vector<int>& person_textures, RenderedScene* scene) {
+  if (sim.dynamic != DynamicLevel::kHigh || !(o.burst_interval_s > 0.0) || sim.frames.empty() ||
+      o.burst_rows < 1 || o.burst_people_per_row < 1)
+    return;
+  std::mt19937_64 rng = scene_rng(seed, 6);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto uni = [&](double a, double b) { return a + (b - a) * unit(rng); };
+  const double t0 = sim.frames.front().t, t1 = sim.frames.back().t;
+  const auto clamp_t = [&](double t) { return std::clamp(t, trajectory.start_time(), trajectory.end_time()); };
+  const auto camera_at = [&](double t) { return trajectory.pose(clamp_t(t)) * sim.T_cam_imu.inverse(); };
+  constexpr double kWallGap = 0.3;  // as the simulator's walkers
+  const Eigen::Vector3d lo = scene->room_lo, hi = scene->room_hi;
+  int next_id = static_cast<int>(sim.groups.size());
+  for (double tc = t0 + o.burst_first_s + unit(rng) * o.burst_interval_s; tc < t1 - 1.0;
+       tc += uni(0.5, 1.5) * o.burst_interval_s) {
+    scene->burst_centres.push_back(tc);
+    const SE3 T_wc = camera_at(tc);
+    Eigen::Vector3d view = T_wc.rotation().act(Eigen::Vector3d::UnitZ());
+    view.z() = 0.0;
+    if (view.norm() < 1e-6) view = Eigen::Vector3d::UnitX();
+    view.normalize();
+    const double sign = unit(rng) < 0.5 ? -1.0 : 1.0;
+    const double heading = std::atan2(view.y(), view.x()) + sign * M_PI / 2 + uni(-M_PI / 12, M_PI / 12);
+    const Eigen::Vector3d dir(std::cos(heading), std::sin(heading), 0.0);
+    const double d0 = uni(o.burst_first_row_min, o.burst_first_row_max);
+    for (int j = 0; j < o.burst_rows; ++j) {
+      const double v = uni(o.burst_speed_min, o.burst_speed_max), phase = uni(0.0, o.burst_spacing);
+      const int texture_base = static_cast<int>(uni(0.0, static_cast<double>(person_textures.size())));
+      Eigen::Vector3d mid = T_wc.translation() + (d0 + j * o.burst_row_gap) * view;
+      mid.z() = lo.z();  // feet on the floor
+      for (int i = 0; i < o.burst_people_per_row; ++i) {
+        // Position at t: mid + (offset + v (t − t_c)) · dir, the queue's middle at mid at t_c.
+        const double offset = -(i - 0.5 * (o.burst_people_per_row - 1)) * o.burst_spacing - phase;
+        const Eigen::Vector3d at_tc = mid + offset * dir;
+        const Eigen::Vector3d velocity = v * dir;
+        double on = std::max(t0, tc - o.burst_half_window_s), off = std::min(t1, tc + o.burst_half_window_s);
+        for (int a = 0; a < 2; ++a) {  // inside the walls: lo + gap ≤ x_a(t) ≤ hi − gap
+          if (std::abs(velocity(a)) < 1e-9) {
+            if (at_tc(a) < lo(a) + kWallGap || at_tc(a) > hi(a) - kWallGap) off = on - 1.0;
+            continue;
+          }
+          double ta = tc + (lo(a) + kWallGap - at_tc(a)) / velocity(a), tb = tc + (hi(a) - kWallGap - at_tc(a)) / velocity(a);
+          if (ta > tb) std::swap(ta, tb);
+          on = std::max(on, ta), off = std::min(off, tb);
+        }
+        if (!(off - on > 0.5)) continue;
+        bool clear = true;
+        for (double t = on; t <= off && clear; t += 0.05) {
+          const Eigen::Vector3d p = at_tc + velocity * (t - tc);
+          clear = (camera_at(t).translation() - p).head<2>().norm() >= o.burst_camera_clearance;
+        }
+        if (!clear) continue;
+        SceneWalker w;
+        w.path.id = next_id++;
+        w.path.t_on = on, w.path.t_off = off;
+        w.path.start = at_tc + velocity * (on - tc);
+        w.path.velocity = velocity;
+        w.path.yaw = heading;
+        w.id = static_cast<std::uint8_t>(1 + w.path.id % 255);
+        w.speed = v;
+        w.texture = person_textures[static_cast<std::size_t>(texture_base + i) % person_textures.size()];
+        w.texture_offset = Eigen::Vector2d(uni(0, 8), uni(0, 8));
+        scene->walkers.push_back(w);
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -53,7 +124,7 @@ RenderedScene build_rendered_scene(const VisualInertialSim& sim, const BSplineTr
   RenderedScene scene;
   scene.texel_size = o.texel_size;
   simulator_room_box(trajectory, sim_options, &scene.room_lo, &scene.room_hi);
-  std::mt19937_64 rng = scene_rng(sim_options.seed);
+  std::mt19937_64 rng = scene_rng(sim_options.seed, 5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const auto uni = [&](double a, double b) { return a + (b - a) * unit(rng); };
 
@@ -118,6 +189,7 @@ RenderedScene build_rendered_scene(const VisualInertialSim& sim, const BSplineTr
     w.texture_offset = Eigen::Vector2d(uni(0, 8), uni(0, 8));
     scene.walkers.push_back(w);
   }
+  add_crowd_bursts(sim, trajectory, sim_options.seed, o, person_textures, &scene);
   return scene;
 }
 

@@ -44,7 +44,7 @@ TEST(RenderedScene, MatchesTheFeatureSimulatorWorld) {
       on_face = std::min({on_face, std::abs(l.position(i) - w.scene.room_lo(i)), std::abs(l.position(i) - w.scene.room_hi(i))});
     ASSERT_LT(on_face, 1e-9);
   }
-  ASSERT_EQ(w.scene.walkers.size(), w.sim.groups.size());
+  ASSERT_GE(w.scene.walkers.size(), w.sim.groups.size());  // the simulator's groups first, then the bursts
   for (std::size_t k = 0; k < w.sim.groups.size(); ++k) {
     EXPECT_EQ(w.scene.walkers[k].id, 1 + w.sim.groups[k].id % 255);
     EXPECT_NEAR(w.scene.walkers[k].speed, w.sim.groups[k].velocity.norm(), 1e-12);
@@ -56,6 +56,51 @@ TEST(RenderedScene, MatchesTheFeatureSimulatorWorld) {
     for (const SimState& s : w.sim.imu_truth)  // clear of the path
       ASSERT_GT((s.p_world.head<2>() - b.centre.head<2>()).norm(), b.half.head<2>().norm() + 0.5);
   }
+}
+
+// Crowd bursts (high level only): queues of person boxes crossing the view at the burst centre,
+// inside the room, clear of the camera, fast enough to count, and a large labelled share of the
+// image at the centre time; none at the low level or with burst_interval_s = 0.
+TEST(RenderedScene, CrowdBurstsCrossTheViewAtTheHighLevel) {
+  World w(DynamicLevel::kHigh, 8);
+  ASSERT_GE(w.scene.burst_centres.size(), 1u);
+  const std::size_t bursts = w.scene.walkers.size() - w.sim.groups.size();
+  EXPECT_GE(bursts, 5u);
+  const RenderedSceneOptions defaults;
+  for (std::size_t k = w.sim.groups.size(); k < w.scene.walkers.size(); ++k) {
+    const SceneWalker& b = w.scene.walkers[k];
+    EXPECT_EQ(b.path.id, static_cast<int>(k));
+    EXPECT_EQ(b.id, 1 + b.path.id % 255);
+    EXPECT_GE(b.speed, defaults.burst_speed_min);
+    EXPECT_LE(b.speed, defaults.burst_speed_max);
+    EXPECT_NEAR(b.path.velocity.norm(), b.speed, 1e-12);
+    for (double t = b.path.t_on; t <= b.path.t_off; t += 0.1) {
+      const Eigen::Vector3d p = b.path.pose(t).translation();
+      for (int a = 0; a < 2; ++a) {
+        EXPECT_GE(p(a), w.scene.room_lo(a) + 0.3 - 1e-9);
+        EXPECT_LE(p(a), w.scene.room_hi(a) - 0.3 + 1e-9);
+      }
+      const Eigen::Vector3d c = (w.spline.pose(t) * w.sim.T_cam_imu.inverse()).translation();
+      EXPECT_GE((c - p).head<2>().norm(), defaults.burst_camera_clearance - 0.05);
+    }
+  }
+  // At a burst centre the crowd covers a large part of the view.
+  const ImageRenderer renderer(w.scene, *w.sim.camera);
+  GrayImage image, labels;
+  const double tc = w.scene.burst_centres.front();
+  std::size_t k = 0;
+  while (k + 1 < w.sim.frames.size() && w.sim.frames[k].t < tc) ++k;
+  renderer.render(w.sim.frames[k].t, frame_camera_pose(w.sim, w.sim.frames[k]), &image, &labels);
+  std::size_t moving = 0, valid = 0;
+  for (int y = 0; y < labels.height; ++y)
+    for (int x = 0; x < labels.width; ++x) {
+      valid += image.at(x, y) > 0;
+      moving += labels.at(x, y) > 0;
+    }
+  EXPECT_GT(static_cast<double>(moving), 0.25 * static_cast<double>(valid));
+  World low(DynamicLevel::kLow, 8);
+  EXPECT_EQ(low.scene.walkers.size(), low.sim.groups.size());
+  EXPECT_TRUE(low.scene.burst_centres.empty());
 }
 
 TEST(ImageRenderer, APlanePointIsFoundAtItsProjection) {

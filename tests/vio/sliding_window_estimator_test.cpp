@@ -111,7 +111,7 @@ TEST(SlidingWindowEstimator, DviDropsDynamicFeaturesAndVisionBelowTheta) {
       dropped += e.visual_dropped;
       flagged_frames += crowd;
       EXPECT_EQ(e.visual_dropped, dvi && crowd);
-      if (dvi && !crowd) EXPECT_NEAR(e.visual_weight, e.static_ratio, 1e-12);
+      if (dvi && !crowd) EXPECT_NEAR(e.visual_weight, e.static_ratio * e.static_ratio, 1e-12);  // default α = M²
       const double err = (e.state.p - scene.motion.position(f.stamp)).norm();
       sum_p2 += err * err;
     }

@@ -9,7 +9,19 @@
 // * walkers: the simulator's moving groups (same paths and time windows, hence the same
 //   `--dynamic` level) drawn as person boxes of its size (0.5 × 0.3 × 1.75 m, feet at the group
 //   origin, x forward), each with a clothing texture, object id k = 1 + (group mod 255) (the label
-//   value) and speed |velocity|.
+//   value) and speed |velocity|;
+// * crowd bursts (high dynamic level only, `burst_interval_s` > 0): platoons the feature
+//   simulator does not have, added so that the front end's static ratio M falls below θ for
+//   stretches (issue 13). A burst centred at t_c is `burst_rows` queues of
+//   `burst_people_per_row` person boxes `burst_spacing` apart along their walk, row j passing
+//   d_j = d_0 + j · burst_row_gap in front of the camera's horizontal view direction at t_c
+//   (d_0 ∈ [burst_first_row_min, burst_first_row_max]), all walking one heading (perpendicular to
+//   the view ± 15°) at a per-row speed in [burst_speed_min, burst_speed_max]; the queue's middle
+//   crosses the view axis at t_c (rows staggered by a random phase). A burst walker is present
+//   within burst_half_window_s of t_c while 0.3 m inside the walls, and is left out if the camera
+//   comes within burst_camera_clearance of it (horizontally) in that time. Burst centres: the
+//   first at burst_first_s + U(0, 1) · interval after the start, then gaps of U(0.5, 1.5) · interval.
+//   Group ids continue after the simulator's (label 1 + id mod 255).
 // Box faces are lit by a fixed direction (shade = ambient + diffuse · max(0, n·L)), so box edges
 // have contrast even between equal albedos. Random choices use their own stream (seed, 5), so
 // the room, the IMU and the features of the simulator are unchanged.
@@ -32,6 +44,14 @@ struct RenderedSceneOptions {
   int texture_size = 512;        ///< texels (power of two); room faces get twice this
   int person_textures = 6;       ///< clothing textures shared by the walkers
   int furniture_textures = 6;
+  double burst_interval_s = 12.0;  ///< mean time between crowd bursts (high level); 0: none
+  double burst_first_s = 5.0;      ///< no burst centre before start + this (start-up)
+  int burst_rows = 4, burst_people_per_row = 10;
+  double burst_spacing = 0.55;     ///< m between walkers of a queue
+  double burst_first_row_min = 0.8, burst_first_row_max = 1.4, burst_row_gap = 0.6;  ///< m
+  double burst_speed_min = 0.6, burst_speed_max = 1.2;  ///< m/s
+  double burst_half_window_s = 3.0;
+  double burst_camera_clearance = 0.6;  ///< m
 };
 
 /// A box in the world: centre, half extents in its own frame, rotated by yaw about z.
@@ -58,7 +78,8 @@ struct RenderedScene {
   /// Texture of each room face: index 2·axis + side, side 0 the lo face (floor = 4, ceiling = 5).
   int room_texture[6] = {0, 0, 0, 0, 0, 0};
   std::vector<SceneBox> furniture;
-  std::vector<SceneWalker> walkers;
+  std::vector<SceneWalker> walkers;   ///< the simulator's groups first, then the burst walkers
+  std::vector<double> burst_centres;  ///< t_c of each crowd burst
   Eigen::Vector3d person_half = Eigen::Vector3d(0.25, 0.15, 0.875);
   double texel_size = 0.007;
   std::vector<std::shared_ptr<const ProceduralTexture>> textures;

@@ -64,7 +64,7 @@ struct CameraFrame {
 struct DviOptions {
   enum class Alpha { kOne, kRatio, kPower };
   bool enabled = false;  ///< off: baseline, dynamic flags ignored, α = 1
-  Alpha alpha = Alpha::kRatio;
+  Alpha alpha = Alpha::kPower;  // α = M², measured best of 1, M, M², M³ on rendered rooms (docs/frontend.md)
   double alpha_power = 2.0;
   double theta = 0.5;
   bool adaptive_theta = false;
