@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "slamkit/core/error.h"
 
@@ -25,51 +26,42 @@ std::shared_ptr<const NoiseModel> NoiseModel::diagonal(const Eigen::VectorXd& si
   return m;
 }
 
-namespace {
-// R (upper, RᵀR = Ω) by a fixed-size Cholesky: no heap temporaries for the pose-graph sizes.
-template <int N>
-bool upper_cholesky(const Eigen::MatrixXd& omega, Eigen::MatrixXd* upper) {
-  const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(omega);
-  if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().array() > 0.0).all()) return false;
-  *upper = llt.matrixU();
-  return true;
-}
-}  // namespace
-
 std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd& omega) {
-  const int n = static_cast<int>(omega.rows());
-  if (omega.cols() != n || !omega.allFinite())
-    throw NumericalError("NoiseModel::information: matrix is not square or not finite");
-  const double scale = omega.cwiseAbs().maxCoeff();
-  double asymmetry = 0.0;
-  for (int c = 0; c < n; ++c)
-    for (int r = c + 1; r < n; ++r) asymmetry = std::max(asymmetry, std::abs(omega(r, c) - omega(c, r)));
-  if (asymmetry > 1e-9 * scale) throw NumericalError("NoiseModel::information: matrix is not symmetric");
-  // Diagonal information: no dense whitening needed.
-  bool diagonal = true;
-  for (int c = 0; c < n && diagonal; ++c)
-    for (int r = 0; r < n; ++r)
-      if (r != c && omega(r, c) != 0.0) diagonal = false;
-  if (diagonal) {
-    if (!(omega.diagonal().array() > 0.0).all())
+  // The checks and the Cholesky on an N × N view: fixed-size for the pose-graph sizes (3, 6),
+  // where one model is built per edge, so no dynamic-size loops or heap temporaries there.
+  const auto build = [](const auto& W, int n) -> std::shared_ptr<const NoiseModel> {
+    using Mat = std::decay_t<decltype(W.eval())>;
+    if (!W.allFinite()) throw NumericalError("NoiseModel::information: matrix is not square or not finite");
+    const double scale = W.cwiseAbs().maxCoeff();
+    double asymmetry = 0.0;
+    for (int c = 0; c < n; ++c)
+      for (int r = c + 1; r < n; ++r) asymmetry = std::max(asymmetry, std::abs(W(r, c) - W(c, r)));
+    if (asymmetry > 1e-9 * scale) throw NumericalError("NoiseModel::information: matrix is not symmetric");
+    // Diagonal information: no dense whitening needed.
+    bool diagonal = true;
+    for (int c = 0; c < n && diagonal; ++c)
+      for (int r = 0; r < n; ++r)
+        if (r != c && W(r, c) != 0.0) diagonal = false;
+    if (diagonal) {
+      if (!(W.diagonal().array() > 0.0).all())
+        throw NumericalError("NoiseModel::information: matrix is not positive definite");
+      auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDiagonal, n));
+      m->diag_ = W.diagonal().cwiseSqrt();
+      return m;
+    }
+    // R (upper, RᵀR = Ω); LLT reads only the lower triangle.
+    const Eigen::LLT<Mat> llt(W);
+    if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().array() > 0.0).all())
       throw NumericalError("NoiseModel::information: matrix is not positive definite");
-    auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDiagonal, n));
-    m->diag_ = omega.diagonal().cwiseSqrt();
+    auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDense, n));
+    m->upper_ = llt.matrixU();
     return m;
-  }
-  auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDense, n));
-  bool ok = false;
-  if (n == 3) {
-    ok = upper_cholesky<3>(omega, &m->upper_);
-  } else if (n == 6) {
-    ok = upper_cholesky<6>(omega, &m->upper_);
-  } else {
-    const Eigen::LLT<Eigen::MatrixXd> llt(omega);
-    ok = llt.info() == Eigen::Success && (llt.matrixLLT().diagonal().array() > 0.0).all();
-    if (ok) m->upper_ = llt.matrixU();
-  }
-  if (!ok) throw NumericalError("NoiseModel::information: matrix is not positive definite");
-  return m;
+  };
+  const int n = static_cast<int>(omega.rows());
+  if (omega.cols() != n) throw NumericalError("NoiseModel::information: matrix is not square or not finite");
+  if (n == 3) return build(Eigen::Map<const Eigen::Matrix3d>(omega.data()), n);
+  if (n == 6) return build(Eigen::Map<const Eigen::Matrix<double, 6, 6>>(omega.data()), n);
+  return build(omega, n);
 }
 
 std::shared_ptr<const NoiseModel> NoiseModel::covariance(const Eigen::MatrixXd& sigma) {

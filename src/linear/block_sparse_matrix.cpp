@@ -43,7 +43,7 @@ BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<st
   }
   for (int j = 0; j < nb; ++j) block_col_ptr_[j + 1] += block_col_ptr_[j];
 
-  // Scalar CSC: every column of block column j has the same row list.
+  // Every scalar column of block column j has the same row list, col_heights_[j] rows long.
   col_heights_.assign(nb, 0);
   std::size_t nnz = 0;
   for (int j = 0; j < nb; ++j) {
@@ -53,8 +53,6 @@ BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<st
   if (nnz > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::length_error("BlockSparseMatrix: more than 2^31 nonzeros");
   values_.assign(nnz, 0.0);
-  col_ptr_.resize(rows_ + 1);
-  row_index_.resize(nnz);
   block_value_offset_.resize(block_rows_.size());
   diag_pos_.resize(rows_);
   std::ptrdiff_t pos = 0;
@@ -68,15 +66,35 @@ BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<st
           diag_pos_[block_starts_[j] + c] = base + row_offset + static_cast<std::ptrdiff_t>(c) * col_heights_[j] + c;
       row_offset += block_dims_[block_rows_[k]];
     }
+    pos += row_offset * block_dims_[j];
+  }
+}
+
+void BlockSparseMatrix::build_scalar_index() const {
+  if (!col_ptr_.empty()) return;
+  // Scalar CSC: every column of block column j has the same row list.
+  col_ptr_.resize(rows_ + 1);
+  row_index_.resize(values_.size());
+  int pos = 0;
+  for (int j = 0; j < num_blocks(); ++j)
     for (int c = 0; c < block_dims_[j]; ++c) {
-      col_ptr_[block_starts_[j] + c] = static_cast<int>(pos);
+      col_ptr_[block_starts_[j] + c] = pos;
       for (int k = block_col_ptr_[j]; k < block_col_ptr_[j + 1]; ++k) {
         const int i = block_rows_[k];
         for (int r = 0; r < block_dims_[i]; ++r) row_index_[pos++] = block_starts_[i] + r;
       }
     }
-  }
-  col_ptr_[rows_] = static_cast<int>(pos);
+  col_ptr_[rows_] = pos;
+}
+
+const std::vector<int>& BlockSparseMatrix::col_ptr() const {
+  build_scalar_index();
+  return col_ptr_;
+}
+
+const std::vector<int>& BlockSparseMatrix::row_index() const {
+  build_scalar_index();
+  return row_index_;
 }
 
 std::ptrdiff_t BlockSparseMatrix::block_offset(int i, int j) const {

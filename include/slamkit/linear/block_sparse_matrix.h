@@ -51,8 +51,10 @@ class BlockSparseMatrix {
   std::vector<double>& values() { return values_; }
   const std::vector<double>& values() const { return values_; }
   // CSC arrays (lower triangle plus full diagonal blocks), 32-bit as CHOLMOD's int interface.
-  const std::vector<int>& col_ptr() const { return col_ptr_; }
-  const std::vector<int>& row_index() const { return row_index_; }
+  // Built on the first call (the block Cholesky never reads them); that first call must not
+  // race with another one on the same matrix.
+  const std::vector<int>& col_ptr() const;
+  const std::vector<int>& row_index() const;
   /// Positions of the scalar diagonal entries in values().
   const std::vector<std::ptrdiff_t>& diagonal_positions() const { return diag_pos_; }
 
@@ -66,7 +68,8 @@ class BlockSparseMatrix {
   std::vector<int> block_col_ptr_, block_rows_;      // block pattern, CSC over blocks
   std::vector<std::ptrdiff_t> block_value_offset_;  // per stored block
   std::vector<int> col_heights_;                    // rows per scalar column of block column j
-  std::vector<int> col_ptr_, row_index_;
+  mutable std::vector<int> col_ptr_, row_index_;    // scalar CSC, empty until first asked for
+  void build_scalar_index() const;
   std::vector<std::ptrdiff_t> diag_pos_;
   std::vector<double> values_;
 };
