@@ -43,12 +43,17 @@ std::string resolve_world(const std::string& world, LandmarkMap* map) {
     return world;
   }
   std::string path = world;
-  if (!std::filesystem::exists(path) && world.find('/') == std::string::npos && world.find('.') == std::string::npos) {
+  // A name the OS refuses (too long, no permission) counts as missing, not as an internal error.
+  const auto exists = [](const std::string& p) {
+    std::error_code ec;
+    return std::filesystem::exists(p, ec) && !ec;
+  };
+  if (!exists(path) && world.find('/') == std::string::npos && world.find('.') == std::string::npos) {
     const char* data = std::getenv("SLAMKIT_DATA");
     if (!data)
       throw InputError("--world", 0, "world", "\"" + world + "\" is a Bailey map name: set SLAMKIT_DATA to the datasets folder, or give the map FILE");
     path = std::string(data) + "/landmark/bailey_sim_maps/example_" + world + ".txt";
-    if (!std::filesystem::exists(path))
+    if (!exists(path))
       throw InputError(path, 0, "world", "no such map (names: webmap, densemap, linemap, smallmap, loop1, loop2, loop902)");
   }
   *map = read_landmark_map(path);

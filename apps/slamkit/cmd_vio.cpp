@@ -51,7 +51,8 @@ VisualInertialSim load_visual_inertial_run(const VioCliOptions& o) {
     opt.duration = o.duration;
     return simulate_visual_inertial_sequence(o.sim, o.data, opt).sim;
   }
-  if (std::filesystem::exists(o.sim)) return read_visual_inertial_sim(o.sim);
+  std::error_code ec;  // a name the OS refuses (too long, no permission) is not a file either
+  if (std::filesystem::exists(o.sim, ec) && !ec) return read_visual_inertial_sim(o.sim);
   std::string names;
   for (const std::string& n : visual_inertial_sequence_names()) names += (names.empty() ? "" : ", ") + n;
   throw InputError(o.sim, 0, "sim", "neither a named sequence (" + names + ") nor a simulation file");

@@ -64,7 +64,9 @@ VisualInertialSequence resolve_visual_inertial_sequence(const std::string& spec,
     s.named = true;
     return s;
   }
-  if (spec.rfind("euroc:", 0) == 0 || (spec.rfind("room", 0) == 0 && !fs::exists(spec))) {
+  std::error_code ec;  // a name the OS refuses (too long, no permission) is not a file either
+  const bool is_file = fs::exists(spec, ec) && !ec;
+  if (spec.rfind("euroc:", 0) == 0 || (spec.rfind("room", 0) == 0 && !is_file)) {
     std::string names;
     for (const std::string& n : visual_inertial_sequence_names()) names += (names.empty() ? "" : ", ") + n;
     throw InputError("", 0, "vi", "unknown sequence '" + spec + "' (" + names + " or a trajectory file)");
