@@ -11,6 +11,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "slamkit/core/path_query.h"
 #include "slamkit/eval/filter_consistency.h"
 #include "slamkit/eval/filter_dataset.h"
 #include "slamkit/eval/filter_plots.h"
@@ -43,17 +44,12 @@ std::string resolve_world(const std::string& world, LandmarkMap* map) {
     return world;
   }
   std::string path = world;
-  // A name the OS refuses (too long, no permission) counts as missing, not as an internal error.
-  const auto exists = [](const std::string& p) {
-    std::error_code ec;
-    return std::filesystem::exists(p, ec) && !ec;
-  };
-  if (!exists(path) && world.find('/') == std::string::npos && world.find('.') == std::string::npos) {
+  if (!path_exists(path) && world.find('/') == std::string::npos && world.find('.') == std::string::npos) {
     const char* data = std::getenv("SLAMKIT_DATA");
     if (!data)
       throw InputError("--world", 0, "world", "\"" + world + "\" is a Bailey map name: set SLAMKIT_DATA to the datasets folder, or give the map FILE");
     path = std::string(data) + "/landmark/bailey_sim_maps/example_" + world + ".txt";
-    if (!exists(path))
+    if (!path_exists(path))
       throw InputError(path, 0, "world", "no such map (names: webmap, densemap, linemap, smallmap, loop1, loop2, loop902)");
   }
   *map = read_landmark_map(path);

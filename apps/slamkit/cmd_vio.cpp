@@ -16,6 +16,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "slamkit/core/path_query.h"
 #include "slamkit/eval/eval_plots.h"
 #include "slamkit/eval/evaluation.h"
 #include "slamkit/eval/run_json.h"
@@ -51,8 +52,7 @@ VisualInertialSim load_visual_inertial_run(const VioCliOptions& o) {
     opt.duration = o.duration;
     return simulate_visual_inertial_sequence(o.sim, o.data, opt).sim;
   }
-  std::error_code ec;  // a name the OS refuses (too long, no permission) is not a file either
-  if (std::filesystem::exists(o.sim, ec) && !ec) return read_visual_inertial_sim(o.sim);
+  if (path_exists(o.sim)) return read_visual_inertial_sim(o.sim);
   std::string names;
   for (const std::string& n : visual_inertial_sequence_names()) names += (names.empty() ? "" : ", ") + n;
   throw InputError(o.sim, 0, "sim", "neither a named sequence (" + names + ") nor a simulation file");

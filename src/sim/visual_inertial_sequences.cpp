@@ -4,6 +4,7 @@
 #include <map>
 
 #include "slamkit/core/error.h"
+#include "slamkit/core/path_query.h"
 
 namespace slamkit {
 namespace {
@@ -64,9 +65,7 @@ VisualInertialSequence resolve_visual_inertial_sequence(const std::string& spec,
     s.named = true;
     return s;
   }
-  std::error_code ec;  // a name the OS refuses (too long, no permission) is not a file either
-  const bool is_file = fs::exists(spec, ec) && !ec;
-  if (spec.rfind("euroc:", 0) == 0 || (spec.rfind("room", 0) == 0 && !is_file)) {
+  if (spec.rfind("euroc:", 0) == 0 || (spec.rfind("room", 0) == 0 && !path_exists(spec))) {
     std::string names;
     for (const std::string& n : visual_inertial_sequence_names()) names += (names.empty() ? "" : ", ") + n;
     throw InputError("", 0, "vi", "unknown sequence '" + spec + "' (" + names + " or a trajectory file)");

@@ -10,6 +10,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "slamkit/core/error.h"
+#include "slamkit/core/path_query.h"
 
 namespace slamkit {
 
@@ -61,25 +62,12 @@ struct FrameSource::Impl {
   std::string first_name;
 };
 
-namespace {
-// Filesystem queries that answer "no" instead of throwing on names the OS refuses (too long, no
-// permission): such an input is then reported as missing, with the OS's reason.
-bool is_dir(const std::string& path) {
-  std::error_code ec;
-  return fs::is_directory(path, ec) && !ec;
-}
-void require_exists(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec) || ec)
-    throw InputError(path, 0, "input", "no such file or directory" + (ec ? ": " + ec.message() : std::string()));
-}
-}  // namespace
-
 FrameSource::FrameSource(const std::vector<std::string>& inputs) : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   if (inputs.empty()) throw InputError("(frontend input)", 0, "input", "no video, image directory or images given");
-  for (const std::string& in : inputs) require_exists(in);
-  if (inputs.size() == 1 && is_dir(inputs[0])) {
+  for (const std::string& in : inputs)
+    if (!path_exists(in)) throw InputError(in, 0, "input", "no such file or directory");
+  if (inputs.size() == 1 && is_directory_path(inputs[0])) {
     try {
       for (const auto& e : fs::directory_iterator(inputs[0]))
         if (e.is_regular_file() && is_image_file(e.path())) s.images.push_back(e.path().string());
@@ -96,7 +84,7 @@ FrameSource::FrameSource(const std::vector<std::string>& inputs) : impl_(std::ma
     s.description = "video " + inputs[0];
   } else {
     for (const std::string& in : inputs) {
-      if (is_dir(in)) throw InputError(in, 0, "input", "a directory among several inputs (give it alone)");
+      if (is_directory_path(in)) throw InputError(in, 0, "input", "a directory among several inputs (give it alone)");
       s.images.push_back(in);
     }
     s.description = std::to_string(s.images.size()) + " image file(s)";
@@ -163,8 +151,7 @@ const std::string& FrameSource::description() const { return impl_->description;
 
 GrayImage read_gray_image(const std::string& path) {
   const cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  std::error_code ec;
-  if (m.empty()) throw InputError(path, 0, "image", fs::exists(path, ec) && !ec ? "cannot be read as an image" : "no such file");
+  if (m.empty()) throw InputError(path, 0, "image", path_exists(path) ? "cannot be read as an image" : "no such file");
   return to_gray(m);
 }
 

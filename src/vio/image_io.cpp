@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "slamkit/core/error.h"
+#include "slamkit/core/path_query.h"
 #include "slamkit/io/imu_io.h"
 #include "slamkit/io/text_reader.h"
 #include "slamkit/io/trajectory_io.h"
@@ -60,17 +61,6 @@ std::vector<StampedFile> read_stamp_list(const fs::path& csv) {
   return out;
 }
 
-// Whether `path` is a regular file, without throwing on names the OS refuses (too long, a
-// component that is a file, no permission): those are not images either.
-bool is_file(const fs::path& path) {
-  std::error_code ec;
-  return fs::is_regular_file(path, ec) && !ec;
-}
-bool path_exists(const fs::path& path) {
-  std::error_code ec;
-  return fs::exists(path, ec) && !ec;
-}
-
 }  // namespace
 
 std::int64_t stamp_ns(double t) { return std::llround(t * 1e9); }
@@ -88,7 +78,7 @@ void write_png(const std::string& path, const GrayImage& image) {
 }
 
 GrayImage read_png(const std::string& path) {
-  if (!is_file(path)) throw InputError(path, 0, "image", "no such file");
+  if (!is_file_path(path)) throw InputError(path, 0, "image", "no such file");
   cv::Mat mat;
   try {
     mat = cv::imread(path, cv::IMREAD_UNCHANGED);
@@ -108,8 +98,7 @@ GrayImage read_png(const std::string& path) {
 ImageSequence read_image_sequence(const std::string& dir) {
   const fs::path root(dir);
   const fs::path cam = root / "mav0/cam0";
-  std::error_code ec;
-  if (!fs::is_directory(cam, ec) || ec) throw InputError(dir, 0, "images", "no mav0/cam0 folder (EuRoC/ASL layout expected)");
+  if (!is_directory_path(cam)) throw InputError(dir, 0, "images", "no mav0/cam0 folder (EuRoC/ASL layout expected)");
   ImageSequence seq;
   seq.root = dir;
   const auto frames = read_stamp_list(cam / "data.csv");
@@ -118,7 +107,7 @@ ImageSequence read_image_sequence(const std::string& dir) {
     f.t_ns = e.t_ns;
     f.t = static_cast<double>(e.t_ns) * 1e-9;
     f.image_path = (cam / "data" / e.name).string();
-    if (!is_file(f.image_path))
+    if (!is_file_path(f.image_path))
       throw InputError((cam / "data.csv").string(), e.line, "filename", "missing image " + f.image_path);
     seq.frames.push_back(f);
   }
@@ -131,7 +120,7 @@ ImageSequence read_image_sequence(const std::string& dir) {
     for (std::size_t k = 0; k < list.size(); ++k) {
       if (list[k].t_ns != frames[k].t_ns) throw InputError(labels.string(), list[k].line, "timestamp", "differs from cam0's");
       seq.frames[k].label_path = (root / "mav0/labels0/data" / list[k].name).string();
-      if (!is_file(seq.frames[k].label_path))
+      if (!is_file_path(seq.frames[k].label_path))
         throw InputError(labels.string(), list[k].line, "filename", "missing label image " + seq.frames[k].label_path);
     }
   }
