@@ -56,9 +56,14 @@ constexpr std::size_t kParallelResidualRows = 6144;
 constexpr std::size_t kParallelColumnDims = 3072;
 constexpr std::size_t kParallelVariables = 4096;
 
+// The chunk size (in items) for parallel_for: at least `min_units` of work per chunk, and
+// no split at all unless there are two such chunks. (A grain alone lets parallel_for split
+// 1.2 grains into a full chunk and a sliver, which starts and wakes the worker thread for a
+// few µs of work: INTEL's, intel's and CSAIL's assembly, intel's evaluation.)
 std::size_t grain_for(std::size_t total_units, std::size_t items, std::size_t min_units) {
   const std::size_t per_item = items == 0 ? 1 : std::max<std::size_t>(1, total_units / items);
-  return std::max<std::size_t>(1, min_units / per_item);
+  const std::size_t grain = std::max<std::size_t>(1, min_units / per_item);
+  return items < 2 * grain ? std::max<std::size_t>(1, items) : grain;
 }
 
 }  // namespace
@@ -285,7 +290,7 @@ void NormalEquations::retract(const Values& x, const double* delta, Values& out,
           x.manifold(i).plus(x.params(i), delta + H_.block_start(static_cast<int>(k)), out.params(i));
         }
       },
-      kParallelVariables);
+      grain_for(free_vars_.size(), free_vars_.size(), kParallelVariables));
 }
 
 }  // namespace slamkit
