@@ -27,6 +27,11 @@ std::shared_ptr<const NoiseModel> NoiseModel::diagonal(const Eigen::VectorXd& si
 }
 
 std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd& omega) {
+  // One heap block for the model and its shared_ptr control block (make_shared; the
+  // constructor is private, so through a local subclass, which has the function's access).
+  struct Shared : NoiseModel {
+    Shared(Kind kind, int dim) : NoiseModel(kind, dim) {}
+  };
   // The checks and the Cholesky on an N × N view: fixed-size for the pose-graph sizes (3, 6),
   // where one model is built per edge, so no dynamic-size loops or heap temporaries there.
   const auto build = [](const auto& W, int n) -> std::shared_ptr<const NoiseModel> {
@@ -45,7 +50,7 @@ std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd&
     if (diagonal) {
       if (!(W.diagonal().array() > 0.0).all())
         throw NumericalError("NoiseModel::information: matrix is not positive definite");
-      auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDiagonal, n));
+      auto m = std::make_shared<Shared>(Kind::kDiagonal, n);
       m->diag_ = W.diagonal().cwiseSqrt();
       return m;
     }
@@ -53,7 +58,7 @@ std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd&
     const Eigen::LLT<Mat> llt(W);
     if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().array() > 0.0).all())
       throw NumericalError("NoiseModel::information: matrix is not positive definite");
-    auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDense, n));
+    auto m = std::make_shared<Shared>(Kind::kDense, n);
     m->upper_ = llt.matrixU();
     return m;
   };
