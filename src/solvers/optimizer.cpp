@@ -102,7 +102,10 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   detail::LinearContext ctx(ne, *chol);
   ctx.set_direct_solves(!schur);  // the Schur path may solve iteratively (PCG)
   auto strategy = detail::make_step_strategy(options_);
-  Values x = values, candidate = values;
+  // The iterate lives in `values` itself (optimized in place; the NormalEquations keep no
+  // reference to it), the candidate in one copy: a Values copy duplicates its key index.
+  Values& x = values;
+  Values candidate = values;
   // Best iterate so far: Gauss-Newton may pass through worse points; it never ends on one.
   // Kept as the flat parameter array (Values stores all parameters contiguously from
   // params(0)): no copy of the key index per improving step.
@@ -255,7 +258,6 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   }
   s.final_cost = cost;
   if (schur_solver) s.pcg_iterations = schur_solver->total_pcg_iterations();
-  values = std::move(x);
   s.time_total_s = now_s() - t_start;
   return s;
 }
