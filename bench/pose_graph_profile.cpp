@@ -1,6 +1,8 @@
 // Phase-by-phase profile of the default pose-graph pipeline (load → gauge → ordering → init →
 // problem → optimizer set-up / symbolic analysis / iterations → write-back), median over
 // --repeat runs of each phase, per graph. Prints a Markdown table per graph and writes JSON.
+// Also getrusage counters of each optimize_pose_graph call (minor page faults, system / user
+// CPU ms, context switches): median, min and the first (cold, as in the CLI) run.
 //   pose_graph_profile [--repeat 5] [--only SUBSTRING] [--threads N]
 //                      [--out bench/results/pose_graph_profile.json]
 #include <algorithm>
