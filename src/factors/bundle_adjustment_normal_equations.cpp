@@ -52,13 +52,6 @@ double robust_correct(const RobustKernel& k, Eigen::Vector2d& r, Mat29* F, Mat23
 constexpr int kLanes = 8;
 typedef double Lanes __attribute__((vector_size(8 * kLanes)));
 
-// Lane 0 + lane 1 + ... in that order.
-inline double lane_sum(const Lanes& v) {
-  double s = v[0];
-  for (int k = 1; k < kLanes; ++k) s += v[k];
-  return s;
-}
-
 // robust_correct on lanes [0, n) of r, E, F (each lane as the scalar code does it); cost ← ρ.
 template <class V>
 inline void robust_correct_lanes(const RobustKernel& kernel, int n, V* r, V* E, V* F, V* cost) {
@@ -92,7 +85,7 @@ struct PassData {
   int np;
 };
 
-// The point pass works on four observations at a time (L4), the camera pass on kLanes.
+// Four lanes (the point pass without AVX-512, the camera pass's sums).
 typedef double L4 __attribute__((vector_size(32)));
 typedef double L4u __attribute__((vector_size(32), aligned(8), may_alias));
 typedef long long I4 __attribute__((vector_size(32)));
@@ -329,18 +322,19 @@ double linearize_points(const PassData& d, int j_begin, int j_end, double sum) {
 }
 
 // Cameras [i_begin, i_end): B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij. F_ij, r_ij are recomputed
-// here by the fused kernel (after the robust correction: the point pass's bits), four
-// observations at a time in lanes; nothing is stored per observation. The sums run per lane
-// over the camera's groups of four, then over the lanes 0..3: the order depends only on the
-// camera's observation count. Padded lanes (the last group) repeat its last observation and
-// contribute zeros.
+// here by the fused kernel (after the robust correction: the point pass's bits), eight
+// observations at a time in lanes; nothing is stored per observation. The sums run on four
+// lanes over the camera's groups of four (each group of eight adds its lanes 0..3, then 4..7),
+// then over the lanes 0..3: the order depends only on the camera's observation count and is the
+// one of a four-lane pass. Padded lanes (the last group) repeat its last observation and
+// contribute zeros (a last half of only padding is not added).
 __attribute__((target_clones("avx512f", "avx2", "default"))) void linearize_cameras(const PassData& d, int i_begin,
                                                                          int i_end) {
   for (int i = i_begin; i < i_end; ++i) {
     const BalCameraFrame& c = d.frames[i];
-    Lanes B[45], gi[9];  // B's lower triangle row by row: (a, b) at a(a+1)/2 + b
-    for (Lanes& v : B) v = Lanes{};
-    for (Lanes& v : gi) v = Lanes{};
+    L4 B[45], gi[9];  // B's lower triangle row by row: (a, b) at a(a+1)/2 + b; four lanes
+    for (L4& v : B) v = L4{};
+    for (L4& v : gi) v = L4{};
     const int q_end = d.cam_ptr[i + 1];
     for (int q = d.cam_ptr[i]; q < q_end; q += kLanes) {
       const int n = std::min(kLanes, q_end - q);
@@ -360,19 +354,27 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void linearize_came
         r[0][k] = r[1][k] = 0.0;
         for (Lanes& v : F) v[k] = 0.0;
       }
+      // Products on eight lanes; summed as two groups of four (lanes 0..3, then 4..7 if any).
+      const bool second = n > 4;
       for (int a = 0, t = 0; a < 9; ++a) {
-        for (int b = 0; b <= a; ++b, ++t) B[t] += F[a] * F[b] + F[9 + a] * F[9 + b];
-        gi[a] += F[a] * r[0] + F[9 + a] * r[1];
+        for (int b = 0; b <= a; ++b, ++t) {
+          const Lanes v = F[a] * F[b] + F[9 + a] * F[9 + b];
+          B[t] += __builtin_shufflevector(v, v, 0, 1, 2, 3);
+          if (second) B[t] += __builtin_shufflevector(v, v, 4, 5, 6, 7);
+        }
+        const Lanes v = F[a] * r[0] + F[9 + a] * r[1];
+        gi[a] += __builtin_shufflevector(v, v, 0, 1, 2, 3);
+        if (second) gi[a] += __builtin_shufflevector(v, v, 4, 5, 6, 7);
       }
     }
     const int bi = d.np + i, ld = d.hessian->leading_dim(bi), s = d.hessian->block_start(bi);
     double* Bi = d.H + d.hessian->block_offset(bi, bi);
     for (int a = 0, t = 0; a < 9; ++a) {
       for (int b = 0; b <= a; ++b, ++t) {
-        const double v = lane_sum(B[t]);
+        const double v = ((B[t][0] + B[t][1]) + B[t][2]) + B[t][3];
         Bi[static_cast<std::ptrdiff_t>(b) * ld + a] = v, Bi[static_cast<std::ptrdiff_t>(a) * ld + b] = v;
       }
-      d.g[s + a] = lane_sum(gi[a]);
+      d.g[s + a] = ((gi[a][0] + gi[a][1]) + gi[a][2]) + gi[a][3];
       d.diag[s + a] = Bi[static_cast<std::ptrdiff_t>(a) * ld + a];
     }
   }
