@@ -3,8 +3,13 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <type_traits>
 
 #include "slamkit/factors/bal_normal_equations.h"
+
+// The AVX-512 clones below have FMA: keep a·b + c as two roundings there too (every clone and
+// the scalar kernel give the same bits).
+#pragma GCC optimize("fp-contract=off")
 
 namespace slamkit {
 namespace {
@@ -44,11 +49,12 @@ double robust_correct(const RobustKernel& k, Eigen::Vector2d& r, Mat29* F, Mat23
 
 // Four observations, one per lane (GCC vector: AVX2 in the avx2 clones, two SSE2 halves in the
 // default ones; elementwise IEEE either way, so both clones give the same bits).
-typedef double Lanes __attribute__((vector_size(32)));
-constexpr int kLanes = 4;
+constexpr int kLanes = 8;
+typedef double Lanes __attribute__((vector_size(8 * kLanes)));
 
 // robust_correct on lanes [0, n) of r, E, F (each lane as the scalar code does it); cost ← ρ.
-inline void robust_correct_lanes(const RobustKernel& kernel, int n, Lanes* r, Lanes* E, Lanes* F, Lanes* cost) {
+template <class V>
+inline void robust_correct_lanes(const RobustKernel& kernel, int n, V* r, V* E, V* F, V* cost) {
   for (int k = 0; k < n; ++k) {
     Eigen::Vector2d rv(r[0][k], r[1][k]);
     Mat29 Fl;
@@ -68,6 +74,7 @@ struct PassData {
   const BalCameraFrame* frames;
   const BalPointObservation* pt_obs;  // point order (the point pass)
   const int* pt_ptr;
+  const std::ptrdiff_t* c_off;  // offset of C_j in H's values
   const BalCameraObservation* cam_obs;  // camera order (the camera pass)
   const int* cam_ptr;
   double* H;
@@ -78,100 +85,256 @@ struct PassData {
   int np;
 };
 
-// A camera frame in lanes (the camera of each lane's observation).
-struct LaneFrame {
-  Lanes R[9], t[3], f, k1, k2;
+// Four lanes (the point pass without AVX-512, the camera pass's sums).
+typedef double L4 __attribute__((vector_size(32)));
+typedef double L4u __attribute__((vector_size(32), aligned(8), may_alias));
+typedef long long I4 __attribute__((vector_size(32)));
+inline void store4(double* p, const L4& v) { *reinterpret_cast<L4u*>(p) = v; }
+// out[a][k] = in[k][a] for 4×4 (rows a, b, c, d in, columns out): shuffles only, bits unchanged.
+inline void transpose4(const L4& a, const L4& b, const L4& c, const L4& d, L4* out) {
+  const L4 t0 = __builtin_shuffle(a, b, I4{0, 4, 2, 6}), t1 = __builtin_shuffle(a, b, I4{1, 5, 3, 7});
+  const L4 t2 = __builtin_shuffle(c, d, I4{0, 4, 2, 6}), t3 = __builtin_shuffle(c, d, I4{1, 5, 3, 7});
+  out[0] = __builtin_shuffle(t0, t2, I4{0, 1, 4, 5}), out[1] = __builtin_shuffle(t1, t3, I4{0, 1, 4, 5});
+  out[2] = __builtin_shuffle(t0, t2, I4{2, 3, 6, 7}), out[3] = __builtin_shuffle(t1, t3, I4{2, 3, 6, 7});
+}
+static_assert(sizeof(BalCameraFrame) == 16 * sizeof(double) && std::is_standard_layout<BalCameraFrame>::value,
+              "the point pass reads a frame as 16 doubles");
+struct LaneFrame4 {
+  L4 R[9], t[3], f, k1, k2;
 };
 
 // Points [j_begin, j_end): their observations in point order, then camera order, four at a
 // time in lanes (whatever points they belong to): the fused kernel's r, E, F (F stays local: the
-// camera pass recomputes it), the robust correction per lane, W_ij = F_ijᵀE_ij in lanes; then
-// per observation in order: W_ij into the point's column of H, C_j += E_ijᵀE_ij, g_j += E_ijᵀr_ij,
-// the cost. Every sum runs in the scalar code's order: the same bits as one observation at a time.
+// camera pass recomputes it), the robust correction per lane, W_ij = F_ijᵀE_ij and the terms of
+// C_j, g_j in lanes; then per observation in order: W_ij into the point's column of H,
+// C_j += E_ijᵀE_ij, g_j += E_ijᵀr_ij, the cost. The lanes are moved in and out by 4×4 transposes
+// (the cameras' frames in, W and the C_j terms out), which move bits and round nothing; every
+// sum runs in the scalar code's order: the same bits as one observation at a time.
 // Returns sum + Σ ρ(‖r‖²) in point order.
-__attribute__((target_clones("avx2", "default"))) double linearize_points(const PassData& d, int j_begin,
-                                                                          int j_end, double sum) {
-  double C[6], gj[3];  // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j
+__attribute__((target_clones("avx2", "default"))) double linearize_points4(const PassData& d, int j_begin, int j_end,
+                                                                            double sum) {
+  // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j: (c00 c01 c02 c11), (c12 c22 g0 g1), g2.
+  L4 acc0, acc1;
+  double g2;
   int j = j_begin, previous_camera = -1;
   auto reset = [&] {
-    for (double& v : C) v = 0.0;
-    for (double& v : gj) v = 0.0;
+    acc0 = L4{}, acc1 = L4{}, g2 = 0.0;
     previous_camera = -1;
   };
   auto flush = [&] {
     const int ld = d.hessian->leading_dim(j);
-    double* Cj = d.H + d.hessian->block_offset(j, j);
-    Cj[0] = C[0], Cj[1] = C[1], Cj[2] = C[2];
-    Cj[ld] = C[1], Cj[ld + 1] = C[3], Cj[ld + 2] = C[4];
-    Cj[2 * ld] = C[2], Cj[2 * ld + 1] = C[4], Cj[2 * ld + 2] = C[5];
-    d.g[3 * j] = gj[0], d.g[3 * j + 1] = gj[1], d.g[3 * j + 2] = gj[2];
-    d.diag[3 * j] = C[0], d.diag[3 * j + 1] = C[3], d.diag[3 * j + 2] = C[5];
+    double* Cj = d.H + d.c_off[j];
+    Cj[0] = acc0[0], Cj[1] = acc0[1], Cj[2] = acc0[2];
+    Cj[ld] = acc0[1], Cj[ld + 1] = acc0[3], Cj[ld + 2] = acc1[0];
+    Cj[2 * ld] = acc0[2], Cj[2 * ld + 1] = acc1[0], Cj[2 * ld + 2] = acc1[1];
+    d.g[3 * j] = acc1[2], d.g[3 * j + 1] = acc1[3], d.g[3 * j + 2] = g2;
+    d.diag[3 * j] = acc0[0], d.diag[3 * j + 1] = acc0[3], d.diag[3 * j + 2] = acc1[1];
     ++j;
     reset();
   };
   reset();
   const int q_end = d.pt_ptr[j_end];
-  for (int q = d.pt_ptr[j_begin]; q < q_end; q += kLanes) {
-    const int n = std::min(kLanes, q_end - q);
-    LaneFrame c;
-    Lanes X[3], z[2], r[2], E[6], F[18];
-    for (int k = 0; k < kLanes; ++k) {
-      const BalPointObservation& o = d.pt_obs[q + std::min(k, n - 1)];
-      const BalCameraFrame& f = d.frames[o.camera];
-      for (int a = 0; a < 9; ++a) c.R[a][k] = f.R[a];
-      for (int a = 0; a < 3; ++a) c.t[a][k] = f.t[a];
-      c.f[k] = f.f, c.k1[k] = f.k1, c.k2[k] = f.k2;
-      const double* P = d.points[o.point].data();
-      X[0][k] = P[0], X[1][k] = P[1], X[2][k] = P[2];
-      z[0][k] = o.z[0], z[1][k] = o.z[1];
+  for (int q = d.pt_ptr[j_begin]; q < q_end; q += 4) {
+    const int n = std::min(4, q_end - q);
+    const BalPointObservation* o[4];
+    for (int k = 0; k < 4; ++k) o[k] = d.pt_obs + q + std::min(k, n - 1);
+    // The four cameras' frames (16 doubles each: R, t, f, k1, k2, padding), transposed into lanes.
+    L4 fr[16];
+    for (int b = 0; b < 16; b += 4) {
+      const double* f0 = reinterpret_cast<const double*>(d.frames + o[0]->camera);
+      const double* f1 = reinterpret_cast<const double*>(d.frames + o[1]->camera);
+      const double* f2 = reinterpret_cast<const double*>(d.frames + o[2]->camera);
+      const double* f3 = reinterpret_cast<const double*>(d.frames + o[3]->camera);
+      const L4 r0 = *reinterpret_cast<const L4u*>(f0 + b), r1 = *reinterpret_cast<const L4u*>(f1 + b);
+      const L4 r2 = *reinterpret_cast<const L4u*>(f2 + b), r3 = *reinterpret_cast<const L4u*>(f3 + b);
+      transpose4(r0, r1, r2, r3, fr + b);
     }
+    LaneFrame4 c;
+    for (int a = 0; a < 9; ++a) c.R[a] = fr[a];
+    for (int a = 0; a < 3; ++a) c.t[a] = fr[9 + a];
+    c.f = fr[12], c.k1 = fr[13], c.k2 = fr[14];
+    const double *P0 = d.points[o[0]->point].data(), *P1 = d.points[o[1]->point].data();
+    const double *P2 = d.points[o[2]->point].data(), *P3 = d.points[o[3]->point].data();
+    const L4 X[3] = {{P0[0], P1[0], P2[0], P3[0]}, {P0[1], P1[1], P2[1], P3[1]}, {P0[2], P1[2], P2[2], P3[2]}};
+    const L4 z[2] = {{o[0]->z[0], o[1]->z[0], o[2]->z[0], o[3]->z[0]}, {o[0]->z[1], o[1]->z[1], o[2]->z[1], o[3]->z[1]}};
+    L4 r[2], E[6], F[18];
     bal_linearize(c, X, z, r, E, F);
-    Lanes cost = r[0] * r[0] + r[1] * r[1];
+    L4 cost = r[0] * r[0] + r[1] * r[1];
     if (d.kernel) robust_correct_lanes(*d.kernel, n, r, E, F, &cost);
-    Lanes W[27];  // W_ij = F_ijᵀE_ij (9×3) column by column, the scalar expression per lane
+    // W_ij = F_ijᵀE_ij (9×3) column by column, the scalar expression per lane; rows 0..7 of each
+    // column transposed: WT[col][h][k] = rows 4h..4h+3 of column col for lane k.
+    L4 W[27], WT[3][2][4];
     for (int col = 0; col < 3; ++col)
       for (int a = 0; a < 9; ++a) W[9 * col + a] = F[a] * E[col] + F[9 + a] * E[3 + col];
+    for (int col = 0; col < 3; ++col)
+      for (int h = 0; h < 2; ++h) {
+        const L4* w = W + 9 * col + 4 * h;
+        transpose4(w[0], w[1], w[2], w[3], WT[col][h]);
+      }
+    // The terms of C_j and g_j (E_ijᵀE_ij, E_ijᵀr_ij), in the accumulators' layout per lane.
+    L4 T0[4], T1[4];
+    transpose4(E[0] * E[0] + E[3] * E[3], E[0] * E[1] + E[3] * E[4], E[0] * E[2] + E[3] * E[5],
+               E[1] * E[1] + E[4] * E[4], T0);
+    transpose4(E[1] * E[2] + E[4] * E[5], E[2] * E[2] + E[5] * E[5], E[0] * r[0] + E[3] * r[1],
+               E[1] * r[0] + E[4] * r[1], T1);
+    const L4 t_g2 = E[2] * r[0] + E[5] * r[1];
     for (int k = 0; k < n; ++k) {
-      const BalPointObservation& o = d.pt_obs[q + k];
       while (q + k >= d.pt_ptr[j + 1]) flush();
       sum += cost[k];
-      const double e0[3] = {E[0][k], E[1][k], E[2][k]}, e1[3] = {E[3][k], E[4][k], E[5][k]};
-      const double r0 = r[0][k], r1 = r[1][k];
-      C[0] += e0[0] * e0[0] + e1[0] * e1[0];
-      C[1] += e0[0] * e0[1] + e1[0] * e1[1];
-      C[2] += e0[0] * e0[2] + e1[0] * e1[2];
-      C[3] += e0[1] * e0[1] + e1[1] * e1[1];
-      C[4] += e0[1] * e0[2] + e1[1] * e1[2];
-      C[5] += e0[2] * e0[2] + e1[2] * e1[2];
-      gj[0] += e0[0] * r0 + e1[0] * r1;
-      gj[1] += e0[1] * r0 + e1[1] * r1;
-      gj[2] += e0[2] * r0 + e1[2] * r1;
+      acc0 += T0[k], acc1 += T1[k], g2 += t_g2[k];
       // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
-      const bool accumulate = o.camera == previous_camera;
+      const bool accumulate = o[k]->camera == previous_camera;
       const int ld = d.hessian->leading_dim(j);
-      double* __restrict w = d.H + o.w_off;
-      for (int col = 0; col < 3; ++col, w += ld)
-        for (int a = 0; a < 9; ++a) w[a] = accumulate ? w[a] + W[9 * col + a][k] : W[9 * col + a][k];
-      previous_camera = o.camera;
+      double* __restrict w = d.H + o[k]->w_off;
+      if (!accumulate) {
+        for (int col = 0; col < 3; ++col, w += ld)
+          store4(w, WT[col][0][k]), store4(w + 4, WT[col][1][k]), w[8] = W[9 * col + 8][k];
+      } else {
+        for (int col = 0; col < 3; ++col, w += ld)
+          store4(w, L4(*reinterpret_cast<const L4u*>(w)) + WT[col][0][k]),
+              store4(w + 4, L4(*reinterpret_cast<const L4u*>(w + 4)) + WT[col][1][k]), w[8] += W[9 * col + 8][k];
+      }
+      previous_camera = o[k]->camera;
     }
   }
   while (j < j_end) flush();  // the last point (and any without observations)
   return sum;
 }
 
+// The same with eight observations at a time (AVX-512: L8 in zmm registers) and 8×8 transposes:
+// the same per-observation expressions and sums in the same order, so the same bits as the
+// four-lane pass (and the scalar code).
+typedef double L8 __attribute__((vector_size(64)));
+typedef double L8u __attribute__((vector_size(64), aligned(8), may_alias));
+typedef long long I8 __attribute__((vector_size(64)));
+struct LaneFrame8 {
+  L8 R[9], t[3], f, k1, k2;
+};
+// out[a][k] = in[k][a] for 8×8 (in: 8 rows).
+__attribute__((target("avx512f"), always_inline)) inline void transpose8(const L8* r, L8* out) {
+  L8 t[8], u[8];
+  for (int p = 0; p < 4; ++p) {
+    t[2 * p] = __builtin_shuffle(r[2 * p], r[2 * p + 1], I8{0, 8, 2, 10, 4, 12, 6, 14});
+    t[2 * p + 1] = __builtin_shuffle(r[2 * p], r[2 * p + 1], I8{1, 9, 3, 11, 5, 13, 7, 15});
+  }
+  for (int h = 0; h < 2; ++h) {  // rows 4h..4h+3: u[4h + c] holds columns c and c + 4 of them
+    const L8 *a = t + 4 * h, *b = t + 4 * h + 2;
+    u[4 * h] = __builtin_shuffle(a[0], b[0], I8{0, 1, 8, 9, 4, 5, 12, 13});
+    u[4 * h + 1] = __builtin_shuffle(a[1], b[1], I8{0, 1, 8, 9, 4, 5, 12, 13});
+    u[4 * h + 2] = __builtin_shuffle(a[0], b[0], I8{2, 3, 10, 11, 6, 7, 14, 15});
+    u[4 * h + 3] = __builtin_shuffle(a[1], b[1], I8{2, 3, 10, 11, 6, 7, 14, 15});
+  }
+  for (int c = 0; c < 4; ++c) {
+    out[c] = __builtin_shuffle(u[c], u[4 + c], I8{0, 1, 2, 3, 8, 9, 10, 11});
+    out[c + 4] = __builtin_shuffle(u[c], u[4 + c], I8{4, 5, 6, 7, 12, 13, 14, 15});
+  }
+}
+
+__attribute__((target("avx512f"))) double linearize_points8(const PassData& d, int j_begin, int j_end, double sum) {
+  // (c00 c01 c02 c11 c12 c22 g0 g1) and g2 of point j.
+  L8 acc;
+  double g2;
+  int j = j_begin;
+  auto reset = [&] { acc = L8{}, g2 = 0.0; };
+  auto flush = [&] {
+    const int ld = d.hessian->leading_dim(j);
+    double* Cj = d.H + d.c_off[j];
+    Cj[0] = acc[0], Cj[1] = acc[1], Cj[2] = acc[2];
+    Cj[ld] = acc[1], Cj[ld + 1] = acc[3], Cj[ld + 2] = acc[4];
+    Cj[2 * ld] = acc[2], Cj[2 * ld + 1] = acc[4], Cj[2 * ld + 2] = acc[5];
+    d.g[3 * j] = acc[6], d.g[3 * j + 1] = acc[7], d.g[3 * j + 2] = g2;
+    d.diag[3 * j] = acc[0], d.diag[3 * j + 1] = acc[3], d.diag[3 * j + 2] = acc[5];
+    ++j;
+    reset();
+  };
+  reset();
+  const int q_end = d.pt_ptr[j_end];
+  for (int q = d.pt_ptr[j_begin]; q < q_end; q += 8) {
+    const int n = std::min(8, q_end - q);
+    const BalPointObservation* o[8];
+    for (int k = 0; k < 8; ++k) o[k] = d.pt_obs + q + std::min(k, n - 1);
+    L8 fr[16], in[8];
+    for (int b = 0; b < 16; b += 8) {
+      for (int k = 0; k < 8; ++k) in[k] = *reinterpret_cast<const L8u*>(reinterpret_cast<const double*>(d.frames + o[k]->camera) + b);
+      transpose8(in, fr + b);
+    }
+    LaneFrame8 c;
+    for (int a = 0; a < 9; ++a) c.R[a] = fr[a];
+    for (int a = 0; a < 3; ++a) c.t[a] = fr[9 + a];
+    c.f = fr[12], c.k1 = fr[13], c.k2 = fr[14];
+    L8 X[3], z[2];
+    for (int k = 0; k < 8; ++k) {
+      const double* P = d.points[o[k]->point].data();
+      in[k] = L8{P[0], P[1], P[2], o[k]->z[0], o[k]->z[1], 0.0, 0.0, 0.0};
+    }
+    {
+      L8 xz[8];
+      transpose8(in, xz);
+      X[0] = xz[0], X[1] = xz[1], X[2] = xz[2], z[0] = xz[3], z[1] = xz[4];
+    }
+    L8 r[2], E[6], F[18];
+    bal_linearize(c, X, z, r, E, F);
+    L8 cost = r[0] * r[0] + r[1] * r[1];
+    if (d.kernel) robust_correct_lanes(*d.kernel, n, r, E, F, &cost);
+    L8 W[27], WT[3][8];
+    for (int col = 0; col < 3; ++col) {
+      for (int a = 0; a < 9; ++a) W[9 * col + a] = F[a] * E[col] + F[9 + a] * E[3 + col];
+      transpose8(W + 9 * col, WT[col]);
+    }
+    L8 T[8];
+    {
+      const L8 terms[8] = {E[0] * E[0] + E[3] * E[3], E[0] * E[1] + E[3] * E[4], E[0] * E[2] + E[3] * E[5],
+                           E[1] * E[1] + E[4] * E[4], E[1] * E[2] + E[4] * E[5], E[2] * E[2] + E[5] * E[5],
+                           E[0] * r[0] + E[3] * r[1],  E[1] * r[0] + E[4] * r[1]};
+      transpose8(terms, T);
+    }
+    const L8 t_g2 = E[2] * r[0] + E[5] * r[1];
+    for (int k = 0; k < n; ++k) {
+      while (q + k >= d.pt_ptr[j + 1]) flush();
+      sum += cost[k];
+      acc += T[k], g2 += t_g2[k];
+      // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
+      const bool accumulate = q + k > 0 && d.pt_obs[q + k - 1].w_off == o[k]->w_off;
+      const int ld = d.hessian->leading_dim(j);
+      double* __restrict w = d.H + o[k]->w_off;
+      for (int col = 0; col < 3; ++col, w += ld) {
+        L8u* w8 = reinterpret_cast<L8u*>(w);
+        if (!accumulate) {
+          *w8 = WT[col][k], w[8] = W[9 * col + 8][k];
+        } else {
+          *w8 = L8(*w8) + WT[col][k], w[8] += W[9 * col + 8][k];
+        }
+      }
+    }
+  }
+  while (j < j_end) flush();
+  return sum;
+}
+
+const bool kHaveAvx512 = [] {
+  __builtin_cpu_init();  // a static initializer may run before the CPU model is known
+  return __builtin_cpu_supports("avx512f") != 0;
+}();
+
+// The point pass, eight lanes where the CPU has AVX-512, else four (the same bits either way).
+double linearize_points(const PassData& d, int j_begin, int j_end, double sum) {
+  return kHaveAvx512 ? linearize_points8(d, j_begin, j_end, sum) : linearize_points4(d, j_begin, j_end, sum);
+}
+
 // Cameras [i_begin, i_end): B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij. F_ij, r_ij are recomputed
-// here by the fused kernel (after the robust correction: the point pass's bits), four
-// observations at a time in lanes; nothing is stored per observation. The sums run per lane
-// over the camera's groups of four, then over the lanes 0..3: the order depends only on the
-// camera's observation count. Padded lanes (the last group) repeat its last observation and
-// contribute zeros.
-__attribute__((target_clones("avx2", "default"))) void linearize_cameras(const PassData& d, int i_begin,
+// here by the fused kernel (after the robust correction: the point pass's bits), eight
+// observations at a time in lanes; nothing is stored per observation. The sums run on four
+// lanes over the camera's groups of four (each group of eight adds its lanes 0..3, then 4..7),
+// then over the lanes 0..3: the order depends only on the camera's observation count and is the
+// one of a four-lane pass. Padded lanes (the last group) repeat its last observation and
+// contribute zeros (a last half of only padding is not added).
+__attribute__((target_clones("avx512f", "avx2", "default"))) void linearize_cameras(const PassData& d, int i_begin,
                                                                          int i_end) {
   for (int i = i_begin; i < i_end; ++i) {
     const BalCameraFrame& c = d.frames[i];
-    Lanes B[45], gi[9];  // B's lower triangle row by row: (a, b) at a(a+1)/2 + b
-    for (Lanes& v : B) v = Lanes{0.0, 0.0, 0.0, 0.0};
-    for (Lanes& v : gi) v = Lanes{0.0, 0.0, 0.0, 0.0};
+    L4 B[45], gi[9];  // B's lower triangle row by row: (a, b) at a(a+1)/2 + b; four lanes
+    for (L4& v : B) v = L4{};
+    for (L4& v : gi) v = L4{};
     const int q_end = d.cam_ptr[i + 1];
     for (int q = d.cam_ptr[i]; q < q_end; q += kLanes) {
       const int n = std::min(kLanes, q_end - q);
@@ -191,9 +354,17 @@ __attribute__((target_clones("avx2", "default"))) void linearize_cameras(const P
         r[0][k] = r[1][k] = 0.0;
         for (Lanes& v : F) v[k] = 0.0;
       }
+      // Products on eight lanes; summed as two groups of four (lanes 0..3, then 4..7 if any).
+      const bool second = n > 4;
       for (int a = 0, t = 0; a < 9; ++a) {
-        for (int b = 0; b <= a; ++b, ++t) B[t] += F[a] * F[b] + F[9 + a] * F[9 + b];
-        gi[a] += F[a] * r[0] + F[9 + a] * r[1];
+        for (int b = 0; b <= a; ++b, ++t) {
+          const Lanes v = F[a] * F[b] + F[9 + a] * F[9 + b];
+          B[t] += __builtin_shufflevector(v, v, 0, 1, 2, 3);
+          if (second) B[t] += __builtin_shufflevector(v, v, 4, 5, 6, 7);
+        }
+        const Lanes v = F[a] * r[0] + F[9 + a] * r[1];
+        gi[a] += __builtin_shufflevector(v, v, 0, 1, 2, 3);
+        if (second) gi[a] += __builtin_shufflevector(v, v, 4, 5, 6, 7);
       }
     }
     const int bi = d.np + i, ld = d.hessian->leading_dim(bi), s = d.hessian->block_start(bi);
@@ -273,6 +444,8 @@ BalNormalEquations::BalNormalEquations(const BalProblem& p, std::shared_ptr<cons
     const BalObservation& o = p.observations[cam_obs[q]];
     cam_obs_[q].point = o.point, cam_obs_[q].z[0] = o.pixel.x(), cam_obs_[q].z[1] = o.pixel.y();
   }
+  c_off_.resize(np_);
+  for (int j = 0; j < np_; ++j) c_off_[j] = hessian_.block_offset(j, j);
   frames_.resize(nc_);
   chunk_cost_.assign((np_ + kChunk - 1) / kChunk, 0.0);
 }
@@ -308,7 +481,7 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
           const int j_end = std::min<int>(np_, j_begin + kChunk);
           if (before_chunk && !kJacobians) (*before_chunk)(j_begin, j_end);
           if (kJacobians) {
-            const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(),
+            const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), c_off_.data(), cam_obs_.data(),
                              cam_ptr_.data(), H, g_.data(), diag_.data(), &hessian_, kernel, np_};
             // With before_chunk, sub-chunks of kSub points: its reads of their H columns are
             // still in L1 when they are overwritten (the cost is summed in the same order).
@@ -376,7 +549,7 @@ double BalNormalEquations::retract_and_linearize(const BalState& x, double* step
 }
 
 void BalNormalEquations::linearize_camera_blocks(const BalState& x) {
-  const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), cam_obs_.data(), cam_ptr_.data(),
+  const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), c_off_.data(), cam_obs_.data(), cam_ptr_.data(),
                    hessian_.values().data(), g_.data(), diag_.data(), &hessian_, kernel_.get(), np_};
   pool_.parallel_for(
       nc_, [&](std::size_t b, std::size_t e) { linearize_cameras(d, static_cast<int>(b), static_cast<int>(e)); }, 1);

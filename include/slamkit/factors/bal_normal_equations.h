@@ -114,6 +114,7 @@ class BalNormalEquations {
   int np_ = 0, nc_ = 0;
   std::vector<int> pt_ptr_;             // observations of point j: pt_obs_[pt_ptr_[j] .. pt_ptr_[j+1]), camera order
   std::vector<PointObs> pt_obs_;
+  std::vector<std::ptrdiff_t> c_off_;    // offset of C_j in H's values
   std::vector<int> cam_ptr_;            // observations of camera i: slots [cam_ptr_[i], cam_ptr_[i+1]), point order
   BlockSparseMatrix hessian_;
   Eigen::VectorXd g_, diag_, damping_;

@@ -92,9 +92,10 @@ inline Eigen::Vector2d bal_reprojection(const Eigen::Matrix3d& R, const BalCamer
   return r;
 }
 
-/// One camera as the fused kernel reads it, formed once per camera per pass: R row-major, t, f, k1, k2.
+/// One camera as the fused kernel reads it, formed once per camera per pass: R row-major, t, f, k1, k2
+/// (16 doubles with the padding: the point pass loads four frames as 4×4 blocks).
 struct BalCameraFrame {
-  double R[9], t[3], f, k1, k2;
+  double R[9], t[3], f, k1, k2, padding = 0.0;
   static BalCameraFrame from(const BalCamera& c) {
     BalCameraFrame fr;
     Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(fr.R) = c.rotation.matrix();
