@@ -83,8 +83,13 @@ struct ThreadPool::Impl {
 };
 
 int ThreadPool::hardware_threads() {
-  const unsigned n = std::thread::hardware_concurrency();
-  return n == 0 ? 1 : static_cast<int>(n);
+  // Read once per process: libstdc++ reads /sys/devices/system/cpu/online on every call, and
+  // every default pool asks.
+  static const int n = [] {
+    const unsigned c = std::thread::hardware_concurrency();
+    return c == 0 ? 1 : static_cast<int>(c);
+  }();
+  return n;
 }
 
 const char* ThreadPool::backend() { return "std::thread pool"; }
