@@ -84,6 +84,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
     if (b == longest) out.status = c.status;
     for (std::size_t m = 0; m < index.size(); ++m) {
       FrontendFeature& f = out.features[index[m]];
+      if (b == 1) f.distance_1_px = c.distance_px[m];
       if (baseline[index[m]] != b) continue;
       f.motion = c.flags[m];
       f.distance_px = c.distance_px[m];

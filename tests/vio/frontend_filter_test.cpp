@@ -244,5 +244,35 @@ TEST(FrontendScoring, PatchRuleSeparatesSilhouettes) {
   EXPECT_EQ(slow.true_positive, 0);
 }
 
+// Issue 13 scores objects "at 2–6 m": a feature on an object outside the distance range is neither a
+// hit, a miss nor a false alarm (like a slow one); ids without a distance and the static scene are
+// always scored; the range's ends are inside.
+TEST(FrontendScoring, DistanceRangeExcludesNearAndFarObjects) {
+  const std::vector<int> labels{1, 1, 2, 2, 3, 4, 5, 0, 0};
+  const std::vector<FeatureMotion> flags{FeatureMotion::kDynamic, FeatureMotion::kStatic, FeatureMotion::kDynamic,
+                                         FeatureMotion::kUnknown, FeatureMotion::kDynamic, FeatureMotion::kDynamic,
+                                         FeatureMotion::kStatic, FeatureMotion::kDynamic, FeatureMotion::kStatic};
+  DetectionScoreOptions o;
+  o.label_distance_m = {{1, 1.2}, {2, 4.0}, {3, 7.5}, {4, 6.0}};  // 5: no distance known
+  const DetectionScore s = score_against_feature_labels(labels, flags, o);
+  EXPECT_EQ(s.excluded_range, 3);   // object 1 at 1.2 m (2 features), object 3 at 7.5 m
+  EXPECT_EQ(s.true_positive, 2);    // object 2, object 4 (6.0 m: the range is closed)
+  EXPECT_EQ(s.false_negative, 2);   // object 2 unknown, object 5 static
+  EXPECT_EQ(s.false_positive, 1);   // the static scene is always scored
+  EXPECT_EQ(s.true_negative, 1);
+  EXPECT_DOUBLE_EQ(s.precision(), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.recall(), 0.5);
+  // A slow object is excluded as slow whatever its distance; without distances nothing is excluded by range.
+  o.label_speed_mps = {{2, 0.1}};
+  const DetectionScore slow = score_against_feature_labels(labels, flags, o);
+  EXPECT_EQ(slow.excluded, 2);
+  EXPECT_EQ(slow.excluded_range, 3);
+  DetectionScoreOptions all;
+  EXPECT_EQ(score_against_feature_labels(labels, flags, all).excluded_range, 0);
+  DetectionScore sum = s;
+  sum += s;
+  EXPECT_EQ(sum.excluded_range, 6);
+}
+
 }  // namespace
 }  // namespace slamkit

@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <unordered_map>
 #include <unordered_set>
@@ -67,6 +68,9 @@ struct FrontendFeature {
   int baseline = 0;  ///< frames between the two views it was classified on (0: not classified)
   Eigen::Vector2d uv_then = Eigen::Vector2d::Zero();  ///< its pixel `baseline` frames ago (baseline > 0)
   double distance_px = 0.0;  ///< epipolar distance (or static-camera flow residual) of this frame's test; NaN if none
+  /// The frame-to-frame test's distance (baseline 1) of every tracked feature, also of those
+  /// classified on the long baseline; NaN if it did not run.
+  double distance_1_px = std::numeric_limits<double>::quiet_NaN();
   int hits = 0;      ///< tests over the threshold among the track's last consistency_checks
   int checks = 0;    ///< tests kept (≤ consistency_checks)
 };
