@@ -246,6 +246,12 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--pixel-sigma", o->image.vio.pixel_sigma, "with --images: sigma of the tracks in the window (px)")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_option("--trusted-model", o->image.vio.frontend.trusted_model,
+                  "with --images: fit the camera motion on the tracks static in their last test")->capture_default_str();
+  sub->add_option("--trusted-min-tests", o->image.vio.frontend.trusted_min_tests,
+                  "with --images: tests a track needs to be trusted")->check(CLI::Range(1, 16))->capture_default_str();
+  sub->add_option("--min-trusted-matches", o->image.vio.frontend.filter.min_trusted_matches,
+                  "with --images: fewer trusted matches: fit on all")->check(CLI::NonNegativeNumber)->capture_default_str();
   sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
                   "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();

@@ -68,10 +68,14 @@ bool DynamicFeatureFilter::undistort_jacobian(const Eigen::Vector2d& uv, Eigen::
 }
 
 Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>& prev,
-                                              const std::vector<Eigen::Vector2d>& cur) const {
+                                              const std::vector<Eigen::Vector2d>& cur,
+                                              const std::vector<char>* trusted) const {
   if (prev.size() != cur.size())
     throw std::invalid_argument("dynamic feature filter: " + std::to_string(prev.size()) + " previous and " +
                                 std::to_string(cur.size()) + " current pixels");
+  if (trusted && trusted->size() != prev.size())
+    throw std::invalid_argument("dynamic feature filter: " + std::to_string(trusted->size()) + " trust flags for " +
+                                std::to_string(prev.size()) + " matches");
   const std::size_t n = prev.size();
   Classification c;
   c.flags.assign(n, FeatureMotion::kUnknown);
@@ -126,13 +130,24 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
     return finish();
   }
 
-  // 3. F by normalized 8-point + RANSAC, epipolar distance of every match.
+  // 3. F by normalized 8-point + RANSAC, epipolar distance of every match. The model is fitted on
+  // the trusted matches when there are enough of them, else on all.
+  std::vector<char> fit(m, 1);
+  if (trusted) {
+    int n_trusted = 0;
+    for (std::size_t k = 0; k < m; ++k) n_trusted += (*trusted)[index[k]] != 0;
+    if (n_trusted >= std::max(options_.min_matches, options_.min_trusted_matches))
+      for (std::size_t k = 0; k < m; ++k) fit[k] = (*trusted)[index[k]] != 0;
+  }
   if (spherical) {
-    c.status = classify_spherical(b1, b2, index, &c) ? ClassificationStatus::kEpipolar : ClassificationStatus::kNoFundamental;
+    c.status = classify_spherical(b1, b2, index, fit, &c) ? ClassificationStatus::kEpipolar : ClassificationStatus::kNoFundamental;
     return finish();
   }
+  std::vector<cv::Point2d> f1, f2;
+  for (std::size_t k = 0; k < m; ++k)
+    if (fit[k]) f1.push_back(p1[k]), f2.push_back(p2[k]);
   cv::Mat inliers;
-  const cv::Mat F = cv::findFundamentalMat(p1, p2, cv::FM_RANSAC, options_.ransac_threshold_px,
+  const cv::Mat F = cv::findFundamentalMat(f1, f2, cv::FM_RANSAC, options_.ransac_threshold_px,
                                            options_.ransac_confidence, options_.ransac_max_iterations, inliers);
   if (F.rows != 3 || F.cols != 3) {
     c.status = ClassificationStatus::kNoFundamental;
@@ -141,8 +156,8 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   cv::Mat F_refined = F;
   if (options_.refit_on_inliers) {  // the normalized 8-point least squares on every RANSAC inlier
     std::vector<cv::Point2d> q1, q2;
-    for (std::size_t k = 0; k < m; ++k)
-      if (inliers.at<uchar>(int(k))) q1.push_back(p1[k]), q2.push_back(p2[k]);
+    for (std::size_t k = 0; k < f1.size(); ++k)
+      if (inliers.at<uchar>(int(k))) q1.push_back(f1[k]), q2.push_back(f2[k]);
     if (q1.size() >= 8) {
       const cv::Mat G = cv::findFundamentalMat(q1, q2, cv::FM_8POINT);
       if (G.rows == 3 && G.cols == 3) F_refined = G;
@@ -231,8 +246,13 @@ Eigen::Matrix3d ransac_rotation(const std::vector<Eigen::Vector3d>& b1, const st
 
 }  // namespace
 
-bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
-                                              const std::vector<std::size_t>& index, Classification* c) const {
+bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>& all_b1,
+                                              const std::vector<Eigen::Vector3d>& all_b2,
+                                              const std::vector<std::size_t>& index, const std::vector<char>& fit,
+                                              Classification* c) const {
+  std::vector<Eigen::Vector3d> b1, b2;  // the matches the models are fitted on
+  for (std::size_t k = 0; k < all_b1.size(); ++k)
+    if (fit[k]) b1.push_back(all_b1[k]), b2.push_back(all_b2[k]);
   const int m = static_cast<int>(b1.size());
   const double f = fx_;  // pixels per radian at the centre (and radially everywhere, equidistant)
   const double inlier_angle = options_.ransac_threshold_px / f;
@@ -281,9 +301,9 @@ bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>
   // A point that moves as the pure rotation says is static whatever E says (E is ill-posed when the
   // translation is small); one that breaks both models is dynamic. d = min(epipolar, rotation) · f.
   const Eigen::Matrix3d R = ransac_rotation(b1, b2, options_.threshold_px / f, 200, &rng);
-  for (int i = 0; i < m; ++i) {
-    const double rot = std::acos(std::clamp(b2[i].dot(R * b1[i]), -1.0, 1.0));
-    const double d = f * std::min(epipolar_angle(best, b1[i], b2[i]), rot);
+  for (std::size_t i = 0; i < all_b1.size(); ++i) {
+    const double rot = std::acos(std::clamp(all_b2[i].dot(R * all_b1[i]), -1.0, 1.0));
+    const double d = f * std::min(epipolar_angle(best, all_b1[i], all_b2[i]), rot);
     c->distance_px[index[i]] = d;
     c->flags[index[i]] = d > options_.threshold_px ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
   }

@@ -59,6 +59,10 @@ struct ImageFrontendOptions {
   /// Appearance check over the tested baseline (see above); ≤ -1 disables it. The patch half size
   /// is tracker.patch_half_px.
   double min_patch_ncc_baseline = -1.0;
+  /// Fit the camera's motion on the trusted tracks (DynamicFilterOptions::min_trusted_matches):
+  /// those with at least trusted_min_tests epipolar tests, the last of them static.
+  bool trusted_model = true;
+  int trusted_min_tests = 1;
 };
 
 struct FrontendFeature {
