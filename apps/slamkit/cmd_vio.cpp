@@ -252,6 +252,8 @@ void add_vio_command(CLI::App& app) {
                   "with --images: tests a track needs to be trusted")->check(CLI::Range(1, 16))->capture_default_str();
   sub->add_option("--min-trusted-matches", o->image.vio.frontend.filter.min_trusted_matches,
                   "with --images: fewer trusted matches: fit on all")->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--refine-essential", o->image.vio.frontend.filter.refine_essential,
+                  "with --images: refine E by robust least squares on the bearings")->capture_default_str();
   sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
                   "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();

@@ -60,6 +60,11 @@ struct DynamicFilterOptions {
   /// more matches than the background and win the RANSAC on all matches (docs/frontend.md,
   /// session 25); tracks that were static in their last test cannot be that crowd's.
   int min_trusted_matches = 16;
+  /// Spherical mode: refine E = [t]× R after the linear refit by Levenberg–Marquardt on the
+  /// matches it was fitted on, minimizing Σ ρ(s_i), s_i = b2·(t × R b1) / |t × R b1| (the sine of
+  /// the angle between b2 and the epipolar plane), ρ the Cauchy loss at ransac_threshold_px / fx.
+  /// The linear 8-point minimizes an algebraic error that weighs the matches unequally.
+  bool refine_essential = true;
 };
 
 struct Classification {
