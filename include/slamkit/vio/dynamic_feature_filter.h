@@ -15,6 +15,9 @@
 //      so that the threshold means the same at the centre and at the rim of a fisheye image;
 //      d_img > threshold_px ⇒ dynamic, else static;
 //   4. M = static / (static + dynamic) of the frame.
+// With a trusted subset (classify's third argument, e.g. the tracks static in their last test)
+// the motion model of step 3 is fitted on it alone and every match is tested against it; on
+// bearings E is refined by robust least squares after the linear refit (see the options).
 // Fewer than min_matches usable matches, or a RANSAC that finds no F, is a handled condition:
 // every feature is "unknown", M = 1 (nothing is known to move), and the status says why.
 #pragma once

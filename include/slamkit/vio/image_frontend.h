@@ -25,6 +25,9 @@
 // of surfaces at different depths, an occlusion edge, a walker's silhouette) changes its patch as
 // the background slides behind the edge, while a surface point, static or on a rigid mover, keeps it.
 // Its epipolar distance is not a point's motion, so neither flag would be right.
+// Trusted tracks (trusted_model): the camera's motion of each test is fitted on the tracks whose
+// last test was static (DynamicFilterOptions::min_trusted_matches), so that a crowd moving as one,
+// whose tracks are new or flagged, cannot take over the RANSAC.
 // M = static / (static + dynamic) over the features of the frame.
 #pragma once
 
