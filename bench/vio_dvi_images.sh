@@ -48,8 +48,8 @@ work, out, seeds, duration, seqs, vio_args = sys.argv[1], sys.argv[2], int(sys.a
 def stats(v): return {"median": st.median(v), "mean": st.mean(v), "min": min(v), "max": max(v)} if v else None
 summary = {"kind": "vio_dvi_images", "sequences": seqs, "seeds": seeds, "duration_s": duration, "vio_args": vio_args,
            "classifier": "front end on rendered images (KLT + long-baseline epipolar test)", "results": {}}
-md = ["| sequence | dynamic | seeds | baseline ATE median / mean / min / max [m] | DVI ATE median / mean / min / max [m] | DVI vs baseline (mean) | precision / recall (patch) | precision / recall (centre pixel) | mixed (flagged) | M mean / min | frames without vision (DVI) | DVI CPU ms / 50 ms frame | load |",
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+md = ["| sequence | dynamic | seeds | baseline ATE median / mean / min / max [m] | DVI ATE median / mean / min / max [m] | DVI vs baseline (mean) | precision / recall (patch, movers at 2-6 m) | tp / fp / fn (2-6 m) | precision / recall (patch, any distance) | precision / recall (centre pixel) | mixed (flagged) | M mean / min | frames without vision (DVI) | DVI CPU ms / 50 ms frame | load |",
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 for seq in seqs:
     for level in ("low", "high"):
         key = f"{seq}_{level}"
@@ -83,7 +83,14 @@ for seq in seqs:
         mixed = sum(f["score"]["mixed"] for f in fe); mixed_flagged = sum(f["score"]["mixed_flagged"] for f in fe)
         ctp = sum(f["score_centre"]["true_positive"] for f in fe); cfp = sum(f["score_centre"]["false_positive"] for f in fe)
         cfn = sum(f["score_centre"]["false_negative"] for f in fe)
-        r["classifier"] = {"rule": "patch (labels under the KLT window; mixed patches counted, not scored)",
+        al = [f.get("score_all_distances", f["score"]) for f in fe]
+        atp = sum(a["true_positive"] for a in al); afp = sum(a["false_positive"] for a in al); afn = sum(a["false_negative"] for a in al)
+        r["classifier"] = {"rule": "patch (labels under the KLT window; mixed patches counted, not scored); movers at "
+                                   "score min..max distance from the camera (default 2-6 m; slower than 0.3 m/s excluded)",
+                           "excluded_distance": sum(f["score"].get("excluded_distance", 0) for f in fe),
+                           "all_distances": {"precision": atp / (atp + afp) if atp + afp else 1.0,
+                                             "recall": atp / (atp + afn) if atp + afn else 1.0,
+                                             "true_positive": atp, "false_positive": afp, "false_negative": afn},
                            "precision": tp / (tp + fp) if tp + fp else 1.0, "recall": tp / (tp + fn) if tp + fn else 1.0,
                            "true_positive": tp, "false_positive": fp, "false_negative": fn,
                            "mixed": mixed, "mixed_flagged": mixed_flagged,
@@ -104,6 +111,8 @@ for seq in seqs:
         c = r["classifier"]
         md.append(f"| {seq} | {level} | {len(runs['on'])} | {f4(r['baseline']['ate_rmse_m'])} | {f4(r['dvi']['ate_rmse_m'])} | "
                   f"{100 * r['dvi_vs_baseline_mean_ate_change']:+.1f} % | {c['precision']:.3f} / {c['recall']:.3f} | "
+                  f"{c['true_positive']} / {c['false_positive']} / {c['false_negative']} | "
+                  f"{c['all_distances']['precision']:.3f} / {c['all_distances']['recall']:.3f} | "
                   f"{c['centre_pixel']['precision']:.3f} / {c['centre_pixel']['recall']:.3f} | {c['mixed']} ({c['mixed_flagged']}) | "
                   f"{c['static_ratio_mean']:.3f} / {c['static_ratio_min']:.3f} | {r['dvi']['visual_frames_dropped']:.1f} | "
                   f"{r['dvi_pipeline_cpu_ms_per_frame']['mean']:.1f} | "
@@ -116,14 +125,22 @@ for level in ("low", "high"):
     fn = sum(v["classifier"]["false_negative"] for v in rs)
     ctp = sum(v["classifier"]["centre_pixel"]["true_positive"] for v in rs); cfp = sum(v["classifier"]["centre_pixel"]["false_positive"] for v in rs)
     cfn = sum(v["classifier"]["centre_pixel"]["false_negative"] for v in rs)
+    atp = sum(v["classifier"]["all_distances"]["true_positive"] for v in rs)
+    afp = sum(v["classifier"]["all_distances"]["false_positive"] for v in rs)
+    afn = sum(v["classifier"]["all_distances"]["false_negative"] for v in rs)
     changes = [v["dvi_vs_baseline_mean_ate_change"] for v in rs]
     summary.setdefault("pooled", {})[level] = {
         "precision": tp / (tp + fp) if tp + fp else 1.0, "recall": tp / (tp + fn) if tp + fn else 1.0,
+        "true_positive": tp, "false_positive": fp, "false_negative": fn,
+        "precision_all_distances": atp / (atp + afp) if atp + afp else 1.0,
+        "recall_all_distances": atp / (atp + afn) if atp + afn else 1.0,
         "precision_centre": ctp / (ctp + cfp) if ctp + cfp else 1.0, "recall_centre": ctp / (ctp + cfn) if ctp + cfn else 1.0,
         "dvi_vs_baseline_change": stats(changes)}
     p = summary["pooled"][level]
     md.append(f"| all | {level} | | | | mean {100 * p['dvi_vs_baseline_change']['mean']:+.1f} % (min {100 * p['dvi_vs_baseline_change']['min']:+.1f}, "
               f"max {100 * p['dvi_vs_baseline_change']['max']:+.1f}) | {p['precision']:.3f} / {p['recall']:.3f} | "
+              f"{p['true_positive']} / {p['false_positive']} / {p['false_negative']} | "
+              f"{p['precision_all_distances']:.3f} / {p['recall_all_distances']:.3f} | "
               f"{p['precision_centre']:.3f} / {p['recall_centre']:.3f} | | | | | |")
 json.dump(summary, open(out + ".json", "w"), indent=1)
 open(out + ".md", "w").write("\n".join(md) + "\n")

@@ -59,7 +59,7 @@ VisualInertialSim load_visual_inertial_run(const VioCliOptions& o) {
 }
 
 void run_vio(const VioCliOptions& o) {
-  check_outputs({{&o.trajectory, "--trajectory"}, {&o.json, "--json"}, {&o.plot, "--plot"}});
+  check_outputs({{&o.trajectory, "--trajectory"}, {&o.json, "--json"}, {&o.plot, "--plot"}, {&o.image.feature_log, "--feature-log"}});
   nlohmann::json frontend;
   VioImageCliOptions io = o.image;
   io.sim = o.sim, io.data = o.data, io.seed = o.seed, io.dynamic = o.dynamic, io.duration = o.duration, io.quiet = o.quiet;
@@ -246,6 +246,21 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--pixel-sigma", o->image.vio.pixel_sigma, "with --images: sigma of the tracks in the window (px)")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_option("--trusted-model", o->image.vio.frontend.trusted_model,
+                  "with --images: fit the camera motion on the tracks static in their last test")->capture_default_str();
+  sub->add_option("--trusted-min-tests", o->image.vio.frontend.trusted_min_tests,
+                  "with --images: tests a track needs to be trusted")->check(CLI::Range(1, 16))->capture_default_str();
+  sub->add_option("--min-trusted-matches", o->image.vio.frontend.filter.min_trusted_matches,
+                  "with --images: fewer trusted matches: fit on all")->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--refine-essential", o->image.vio.frontend.filter.refine_essential,
+                  "with --images: refine E by robust least squares on the bearings")->capture_default_str();
+  sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
+                  "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--score-max-distance", o->image.vio.score_max_distance_m,
+                  "with --images: score only objects at most this far from the camera (m; issue 13: 6)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--feature-log", o->image.feature_log, "with --images: write every scored feature to this CSV");
   sub->add_option("--render-threads", o->image.threads, "with --images: renderer threads (0: all)");
   sub->callback([o]() { run_vio(*o); });
 }

@@ -2,6 +2,7 @@
 #include "vio_images.h"
 
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "cli_util.h"
@@ -18,6 +19,9 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
     throw InputError("--consistency-hits", 0, "consistency_hits",
                      std::to_string(fo.consistency_hits) + " hits of " + std::to_string(fo.consistency_checks) +
                          " checks: must be at most --consistency-checks");
+  if (o.vio.score_min_distance_m > o.vio.score_max_distance_m)
+    throw InputError("--score-min-distance", 0, "score_min_distance_m",
+                     "the scored distance range is empty: --score-min-distance above --score-max-distance");
   VisualInertialSimOptions opt;
   opt.seed = o.seed;
   opt.dynamic = parse_dynamic_level(o.dynamic);
@@ -37,7 +41,21 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
       << report.image_source << ", " << scene.walkers.size() << " walkers), epipolar baseline "
       << o.vio.frontend.baseline_frames << " frames\n";
   const Stopwatch clock;
-  VisualInertialSim tracked = track_images(sim, source, walker_speeds(scene), o.vio, &report, [&](std::size_t k, std::size_t n) {
+  ImageVioOptions vo = o.vio;
+  std::ofstream feature_log;
+  if (!o.feature_log.empty()) {
+    feature_log.open(o.feature_log);
+    if (!feature_log) throw InputError(o.feature_log, 0, "feature_log", "cannot write the file");
+    feature_log << "frame,id,u,v,u_then,v_then,baseline,motion,distance_px,distance_1_px,hits,checks,truth,object_distance_m\n";
+    feature_log.precision(9);
+    vo.on_scored = [&feature_log](std::size_t k, const FrontendFeature& f, int truth, double d) {
+      feature_log << k << ',' << f.id << ',' << f.uv.x() << ',' << f.uv.y() << ',' << f.uv_then.x() << ',' << f.uv_then.y()
+                  << ',' << f.baseline << ',' << to_string(f.motion) << ',' << f.distance_px << ',' << f.distance_1_px << ',' << f.hits << ','
+                  << f.checks << ',' << truth << ',' << d << '\n';
+    };
+  }
+  VisualInertialSim tracked = track_images(sim, source, walker_speeds(scene), walker_distances(scene, sim), vo, &report,
+                                           [&](std::size_t k, std::size_t n) {
     if (o.quiet || (k % 100 != 0 && k + 1 != n)) return;
     char line[160];
     std::snprintf(line, sizeof line, "  front end %5zu/%zu  %.1f s elapsed\n", k + 1, n, clock.seconds());
@@ -45,6 +63,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
   });
   const DetectionScore& s = report.score;
   const DetectionScore& c = report.score_centre;
+  const DetectionScore& a = report.score_all_distances;
   const double cpu_frontend_s = report.frontend_cpu_s;
   const double duration = sim.frames.back().t - sim.frames.front().t;
   *frontend = {{"kind", "frontend"},
@@ -62,12 +81,21 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"dynamic_recall", s.recall()},
                {"dynamic_precision_centre", c.precision()},
                {"dynamic_recall_centre", c.recall()},
-               {"score_rule", "patch: labels under the KLT window, mixed patches counted apart (docs/frontend.md)"},
+               {"dynamic_precision_all_distances", a.precision()},
+               {"dynamic_recall_all_distances", a.recall()},
+               {"score_rule", "patch: labels under the KLT window, mixed patches counted apart, objects at "
+                              "score_min..max_distance_m from the camera (docs/frontend.md)"},
                {"score", {{"true_positive", s.true_positive}, {"false_positive", s.false_positive},
                           {"false_negative", s.false_negative}, {"true_negative", s.true_negative},
                           {"mixed", s.mixed}, {"mixed_flagged", s.mixed_flagged},
                           {"patch_half_size_px", report.score_patch_half_size_px},
-                          {"excluded_slow", s.excluded}, {"min_speed_mps", o.vio.min_speed_mps}}},
+                          {"excluded_slow", s.excluded}, {"min_speed_mps", o.vio.min_speed_mps},
+                          {"excluded_distance", s.excluded_range}, {"min_distance_m", o.vio.score_min_distance_m},
+                          {"max_distance_m", o.vio.score_max_distance_m}}},
+               {"score_all_distances", {{"true_positive", a.true_positive}, {"false_positive", a.false_positive},
+                                        {"false_negative", a.false_negative}, {"true_negative", a.true_negative},
+                                        {"mixed", a.mixed}, {"mixed_flagged", a.mixed_flagged},
+                                        {"excluded_slow", a.excluded}}},
                {"score_centre", {{"true_positive", c.true_positive}, {"false_positive", c.false_positive},
                                  {"false_negative", c.false_negative}, {"true_negative", c.true_negative},
                                  {"excluded_slow", c.excluded}}},
@@ -83,11 +111,13 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"frontend_realtime_factor", duration / std::max(1e-9, report.frontend_s)},
                {"frontend_cpu_ms_per_frame", 1e3 * cpu_frontend_s / std::max<std::size_t>(1, report.frames)},
                {"frontend_realtime_factor_cpu", duration / std::max(1e-9, cpu_frontend_s)}};
-  char line[320];
+  char line[400];
   std::snprintf(line, sizeof line,
-                "front end: dynamic precision %.3f recall %.3f (tp %ld fp %ld fn %ld mixed %ld; centre pixel: %.3f / %.3f),"
+                "front end: dynamic precision %.3f recall %.3f (objects at %g-%g m: tp %ld fp %ld fn %ld mixed %ld; any distance:"
+                " %.3f / %.3f; centre pixel: %.3f / %.3f),"
                 " M mean %.3f min %.3f, images %.1f ms/frame, tracking %.1f + classification %.1f ms/frame\n",
-                s.precision(), s.recall(), s.true_positive, s.false_positive, s.false_negative, s.mixed, c.precision(),
+                s.precision(), s.recall(), o.vio.score_min_distance_m, o.vio.score_max_distance_m, s.true_positive,
+                s.false_positive, s.false_negative, s.mixed, a.precision(), a.recall(), c.precision(),
                 c.recall(), report.static_ratio_mean,
                 report.static_ratio_min, report.image_ms_per_frame, report.tracking_ms_per_frame,
                 report.classification_ms_per_frame);

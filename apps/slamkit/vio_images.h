@@ -16,6 +16,7 @@ namespace slamkit::cli {
 
 struct VioImageCliOptions {
   std::string sim, data, image_dir;
+  std::string feature_log;  ///< CSV of every scored feature (empty: none)
   std::uint64_t seed = 1;
   std::string dynamic = "none";
   double duration = 0.0;

@@ -68,10 +68,14 @@ bool DynamicFeatureFilter::undistort_jacobian(const Eigen::Vector2d& uv, Eigen::
 }
 
 Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>& prev,
-                                              const std::vector<Eigen::Vector2d>& cur) const {
+                                              const std::vector<Eigen::Vector2d>& cur,
+                                              const std::vector<char>* trusted) const {
   if (prev.size() != cur.size())
     throw std::invalid_argument("dynamic feature filter: " + std::to_string(prev.size()) + " previous and " +
                                 std::to_string(cur.size()) + " current pixels");
+  if (trusted && trusted->size() != prev.size())
+    throw std::invalid_argument("dynamic feature filter: " + std::to_string(trusted->size()) + " trust flags for " +
+                                std::to_string(prev.size()) + " matches");
   const std::size_t n = prev.size();
   Classification c;
   c.flags.assign(n, FeatureMotion::kUnknown);
@@ -126,13 +130,24 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
     return finish();
   }
 
-  // 3. F by normalized 8-point + RANSAC, epipolar distance of every match.
+  // 3. F by normalized 8-point + RANSAC, epipolar distance of every match. The model is fitted on
+  // the trusted matches when there are enough of them, else on all.
+  std::vector<char> fit(m, 1);
+  if (trusted) {
+    int n_trusted = 0;
+    for (std::size_t k = 0; k < m; ++k) n_trusted += (*trusted)[index[k]] != 0;
+    if (n_trusted >= std::max(options_.min_matches, options_.min_trusted_matches))
+      for (std::size_t k = 0; k < m; ++k) fit[k] = (*trusted)[index[k]] != 0;
+  }
   if (spherical) {
-    c.status = classify_spherical(b1, b2, index, &c) ? ClassificationStatus::kEpipolar : ClassificationStatus::kNoFundamental;
+    c.status = classify_spherical(b1, b2, index, fit, &c) ? ClassificationStatus::kEpipolar : ClassificationStatus::kNoFundamental;
     return finish();
   }
+  std::vector<cv::Point2d> f1, f2;
+  for (std::size_t k = 0; k < m; ++k)
+    if (fit[k]) f1.push_back(p1[k]), f2.push_back(p2[k]);
   cv::Mat inliers;
-  const cv::Mat F = cv::findFundamentalMat(p1, p2, cv::FM_RANSAC, options_.ransac_threshold_px,
+  const cv::Mat F = cv::findFundamentalMat(f1, f2, cv::FM_RANSAC, options_.ransac_threshold_px,
                                            options_.ransac_confidence, options_.ransac_max_iterations, inliers);
   if (F.rows != 3 || F.cols != 3) {
     c.status = ClassificationStatus::kNoFundamental;
@@ -141,8 +156,8 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   cv::Mat F_refined = F;
   if (options_.refit_on_inliers) {  // the normalized 8-point least squares on every RANSAC inlier
     std::vector<cv::Point2d> q1, q2;
-    for (std::size_t k = 0; k < m; ++k)
-      if (inliers.at<uchar>(int(k))) q1.push_back(p1[k]), q2.push_back(p2[k]);
+    for (std::size_t k = 0; k < f1.size(); ++k)
+      if (inliers.at<uchar>(int(k))) q1.push_back(f1[k]), q2.push_back(f2[k]);
     if (q1.size() >= 8) {
       const cv::Mat G = cv::findFundamentalMat(q1, q2, cv::FM_8POINT);
       if (G.rows == 3 && G.cols == 3) F_refined = G;
@@ -229,10 +244,90 @@ Eigen::Matrix3d ransac_rotation(const std::vector<Eigen::Vector3d>& b1, const st
   return inliers.size() >= 2 ? kabsch(b1, b2, inliers) : best;
 }
 
+// Signed sine of the angle between b2 and the epipolar plane of b1 under (R, t): b2·n / |n|, n = t × R b1.
+double epipolar_sine(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& b1, const Eigen::Vector3d& b2) {
+  const Eigen::Vector3d n = t.cross(R * b1);
+  const double norm = n.norm();
+  return norm > 0.0 ? b2.dot(n) / norm : 0.0;
+}
+
+// (R, t) moved by the 5-vector x: R ← exp(x₀..₂) R, t ← normalize(t + x₃ e₁ + x₄ e₂) (e₁, e₂ ⊥ t).
+void perturb(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+             const Eigen::Matrix<double, 5, 1>& x, Eigen::Matrix3d* R2, Eigen::Vector3d* t2) {
+  const Eigen::Vector3d w = x.head<3>();
+  const double angle = w.norm();
+  *R2 = (angle > 0.0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity()) * R;
+  *t2 = (t + x(3) * e1 + x(4) * e2).normalized();
+}
+
+// Levenberg–Marquardt on the Cauchy-weighted sines (DynamicFilterOptions::refine_essential); the
+// Jacobian by central differences. Returns E = [t]× R (the input's constraint up to sign at start).
+Eigen::Matrix3d refine_essential_lm(const Eigen::Matrix3d& E0, const std::vector<Eigen::Vector3d>& b1,
+                                    const std::vector<Eigen::Vector3d>& b2, double scale, int iterations) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(E0, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
+  if (U.determinant() < 0) U.col(2) *= -1;
+  if (V.determinant() < 0) V.col(2) *= -1;
+  Eigen::Matrix3d W;
+  W << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  Eigen::Matrix3d R = U * W * V.transpose();  // [u₃]× U W Vᵀ = −E0: the same constraint
+  Eigen::Vector3d t = U.col(2);
+  const int m = static_cast<int>(b1.size());
+  const double c2 = scale * scale;
+  auto cost = [&](const Eigen::Matrix3d& Rr, const Eigen::Vector3d& tt) {
+    double sum = 0.0;
+    for (int i = 0; i < m; ++i) sum += std::log1p(epipolar_sine(Rr, tt, b1[i], b2[i]) * epipolar_sine(Rr, tt, b1[i], b2[i]) / c2);
+    return sum;
+  };
+  double current = cost(R, t), lambda = 1e-3;
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::Vector3d e1 = t.unitOrthogonal(), e2 = t.cross(e1);
+    Eigen::Matrix<double, 5, 5> H = Eigen::Matrix<double, 5, 5>::Zero();
+    Eigen::Matrix<double, 5, 1> g = Eigen::Matrix<double, 5, 1>::Zero();
+    const double h = 1e-6;
+    for (int i = 0; i < m; ++i) {
+      const double s = epipolar_sine(R, t, b1[i], b2[i]);
+      Eigen::Matrix<double, 1, 5> J;
+      for (int k = 0; k < 5; ++k) {
+        Eigen::Matrix<double, 5, 1> x = Eigen::Matrix<double, 5, 1>::Zero();
+        Eigen::Matrix3d Rp, Rm;
+        Eigen::Vector3d tp, tm;
+        x(k) = h, perturb(R, t, e1, e2, x, &Rp, &tp);
+        x(k) = -h, perturb(R, t, e1, e2, x, &Rm, &tm);
+        J(k) = (epipolar_sine(Rp, tp, b1[i], b2[i]) - epipolar_sine(Rm, tm, b1[i], b2[i])) / (2 * h);
+      }
+      const double w = 1.0 / (1.0 + s * s / c2);  // IRLS weight of the Cauchy loss
+      H += w * J.transpose() * J, g += w * J.transpose() * s;
+    }
+    bool improved = false;
+    for (int tries = 0; tries < 6 && !improved; ++tries) {
+      Eigen::Matrix<double, 5, 5> A = H;
+      A.diagonal() *= 1.0 + lambda;
+      const Eigen::Matrix<double, 5, 1> dx = A.ldlt().solve(-g);
+      if (!dx.allFinite()) break;
+      Eigen::Matrix3d R2;
+      Eigen::Vector3d t2;
+      perturb(R, t, e1, e2, dx, &R2, &t2);
+      const double next = cost(R2, t2);
+      if (next < current) R = R2, t = t2, current = next, lambda *= 0.3, improved = true;
+      else lambda *= 10.0;
+    }
+    if (!improved) break;
+  }
+  Eigen::Matrix3d tx;
+  tx << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
+  return tx * R;
+}
+
 }  // namespace
 
-bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
-                                              const std::vector<std::size_t>& index, Classification* c) const {
+bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>& all_b1,
+                                              const std::vector<Eigen::Vector3d>& all_b2,
+                                              const std::vector<std::size_t>& index, const std::vector<char>& fit,
+                                              Classification* c) const {
+  std::vector<Eigen::Vector3d> b1, b2;  // the matches the models are fitted on
+  for (std::size_t k = 0; k < all_b1.size(); ++k)
+    if (fit[k]) b1.push_back(all_b1[k]), b2.push_back(all_b2[k]);
   const int m = static_cast<int>(b1.size());
   const double f = fx_;  // pixels per radian at the centre (and radially everywhere, equidistant)
   const double inlier_angle = options_.ransac_threshold_px / f;
@@ -274,6 +369,15 @@ bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>
     Eigen::Matrix3d E;
     if (essential_8point(b1, b2, inliers, &E)) best = E;
   }
+  if (options_.refine_essential) {  // on the matches the linear model keeps under the classification threshold
+    std::vector<Eigen::Vector3d> q1, q2;
+    for (int i = 0; i < m; ++i)
+      if (epipolar_angle(best, b1[i], b2[i]) <= options_.threshold_px / f) q1.push_back(b1[i]), q2.push_back(b2[i]);
+    if (q1.size() >= 8) {
+      const Eigen::Matrix3d E = refine_essential_lm(best, q1, q2, options_.ransac_threshold_px / f, 10);
+      if (E.allFinite()) best = E;
+    }
+  }
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
   K(0, 0) = fx_, K(1, 1) = fy_, K(0, 2) = cx_, K(1, 2) = cy_;
   const Eigen::Matrix3d Kinv = K.inverse();
@@ -281,9 +385,9 @@ bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>
   // A point that moves as the pure rotation says is static whatever E says (E is ill-posed when the
   // translation is small); one that breaks both models is dynamic. d = min(epipolar, rotation) · f.
   const Eigen::Matrix3d R = ransac_rotation(b1, b2, options_.threshold_px / f, 200, &rng);
-  for (int i = 0; i < m; ++i) {
-    const double rot = std::acos(std::clamp(b2[i].dot(R * b1[i]), -1.0, 1.0));
-    const double d = f * std::min(epipolar_angle(best, b1[i], b2[i]), rot);
+  for (std::size_t i = 0; i < all_b1.size(); ++i) {
+    const double rot = std::acos(std::clamp(all_b2[i].dot(R * all_b1[i]), -1.0, 1.0));
+    const double d = f * std::min(epipolar_angle(best, all_b1[i], all_b2[i]), rot);
     c->distance_px[index[i]] = d;
     c->flags[index[i]] = d > options_.threshold_px ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
   }

@@ -22,7 +22,7 @@ double DetectionScore::recall() const {
 DetectionScore& DetectionScore::operator+=(const DetectionScore& o) {
   true_positive += o.true_positive, false_positive += o.false_positive;
   false_negative += o.false_negative, true_negative += o.true_negative;
-  excluded += o.excluded, unknown += o.unknown, outside += o.outside;
+  excluded += o.excluded, excluded_range += o.excluded_range, unknown += o.unknown, outside += o.outside;
   mixed += o.mixed, mixed_flagged += o.mixed_flagged;
   return *this;
 }
@@ -36,6 +36,12 @@ void add(int label, FeatureMotion flag, const DetectionScoreOptions& o, Detectio
     const auto speed = o.label_speed_mps.find(label);
     if (speed != o.label_speed_mps.end() && speed->second < o.min_speed_mps) {
       ++s->excluded;
+      return;
+    }
+    const auto distance = o.label_distance_m.find(label);
+    if (distance != o.label_distance_m.end() &&
+        !(distance->second >= o.min_distance_m && distance->second <= o.max_distance_m)) {
+      ++s->excluded_range;
       return;
     }
     ++(flagged ? s->true_positive : s->false_negative);

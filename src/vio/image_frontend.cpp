@@ -80,10 +80,21 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
     bool any = false;
     for (std::size_t m = 0; m < index.size() && !any; ++m) any = baseline[index[m]] == b;
     if (!any) continue;
-    const Classification c = (b > 1 ? filter_long_ : filter_).classify(p1, p2);
+    std::vector<char> trusted;  // static in its last test(s): fits the camera's motion (see the header)
+    if (options_.trusted_model) {
+      trusted.assign(index.size(), 0);
+      for (std::size_t m = 0; m < index.size(); ++m) {
+        const auto h = tests_.find(tracked[index[m]].id);
+        trusted[m] = h != tests_.end() && h->second.count >= options_.trusted_min_tests && !h->second.dynamic &&
+                     (h->second.over & 1u) == 0;
+      }
+    }
+    const Classification c =
+        (b > 1 ? filter_long_ : filter_).classify(p1, p2, options_.trusted_model ? &trusted : nullptr);
     if (b == longest) out.status = c.status;
     for (std::size_t m = 0; m < index.size(); ++m) {
       FrontendFeature& f = out.features[index[m]];
+      if (b == 1) f.distance_1_px = c.distance_px[m];
       if (baseline[index[m]] != b) continue;
       f.motion = c.flags[m];
       f.distance_px = c.distance_px[m];

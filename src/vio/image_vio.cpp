@@ -3,8 +3,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <deque>
+#include <cmath>
 #include <ctime>
+#include <deque>
 #include <stdexcept>
 
 #include "slamkit/core/error.h"
@@ -29,6 +30,29 @@ std::map<int, double> walker_speeds(const RenderedScene& scene) {
   std::map<int, double> speeds;
   for (const SceneWalker& w : scene.walkers) speeds[w.id] = w.speed;  // ids may repeat mod 255: last wins
   return speeds;
+}
+
+ObjectDistances walker_distances(const RenderedScene& scene, const VisualInertialSim& sim) {
+  struct Walker {
+    SimMovingGroup path;
+    int id;
+  };
+  std::vector<Walker> walkers;
+  for (const SceneWalker& w : scene.walkers) walkers.push_back({w.path, w.id});
+  std::vector<std::pair<double, Eigen::Vector3d>> cameras;  // frame time, camera centre in the world
+  for (const SimFrame& f : sim.frames) cameras.emplace_back(f.t, frame_camera_pose(sim, f).translation());
+  const Eigen::Vector3d centre(0.0, 0.0, scene.person_half.z());  // box centre in the walker's frame (feet at 0)
+  return [walkers = std::move(walkers), cameras = std::move(cameras), centre](std::size_t k) {
+    std::map<int, double> d;
+    const auto& [t, c] = cameras.at(k);
+    for (const Walker& w : walkers) {
+      if (!w.path.active(t)) continue;
+      const double r = (w.path.pose(t).act(centre) - c).norm();
+      const auto it = d.find(w.id);
+      if (it == d.end() || r < it->second) d[w.id] = r;
+    }
+    return d;
+  };
 }
 
 FrameImageSource rendered_frames(const VisualInertialSim& sim, const ImageRenderer& renderer, const ThreadPool* pool) {
@@ -59,6 +83,13 @@ FrameImageSource folder_frames(const VisualInertialSim& sim, const std::string& 
 VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSource& source,
                                const std::map<int, double>& label_speed_mps, const ImageVioOptions& options,
                                ImageVioReport* report, const std::function<void(std::size_t, std::size_t)>& progress) {
+  return track_images(sim, source, label_speed_mps, ObjectDistances{}, options, report, progress);
+}
+
+VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSource& source,
+                               const std::map<int, double>& label_speed_mps, const ObjectDistances& object_distance_m,
+                               const ImageVioOptions& options, ImageVioReport* report,
+                               const std::function<void(std::size_t, std::size_t)>& progress) {
   if (!sim.camera) throw InputError(sim.source, 0, "camera", "the run has no camera");
   if (sim.frames.empty()) throw InputError(sim.source, 0, "frames", "the run has no frames");
   const Eigen::VectorXd K = sim.camera->intrinsics();
@@ -71,7 +102,12 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
   DetectionScoreOptions so_patch = so;
   so_patch.patch_half_size_px =
       options.score_patch_half_size_px >= 0 ? options.score_patch_half_size_px : options.frontend.tracker.klt_window / 2;
+  if (!(options.score_min_distance_m >= 0.0 && options.score_min_distance_m <= options.score_max_distance_m))
+    throw std::invalid_argument("track_images: the scored distance range must satisfy 0 <= min <= max");
+  DetectionScoreOptions so_range = so_patch;  // the patch rule, objects in the distance range
+  so_range.min_distance_m = options.score_min_distance_m, so_range.max_distance_m = options.score_max_distance_m;
   ImageVioReport r;
+  r.distance_range_applied = static_cast<bool>(object_distance_m);
   r.score_patch_half_size_px = so_patch.patch_half_size_px;
   VisualInertialSim out = sim;
   out.landmarks.clear();  // the tracks are not the simulator's landmarks
@@ -109,6 +145,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
     label_history.push_front(labelled ? to_label_image(labels) : LabelImage{});
     while (static_cast<int>(label_history.size()) > options.frontend.baseline_frames + 1) label_history.pop_back();
     if (labelled) {
+      if (object_distance_m) so_range.label_distance_m = object_distance_m(k);
       for (const FrontendFeature& x : f.features) {
         if (x.motion == FeatureMotion::kUnknown || x.baseline <= 0) continue;
         const LabelImage& now = label_history.front();
@@ -118,7 +155,12 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
         const int truth = then.labels.empty() || static_cast<std::size_t>(x.baseline) >= label_history.size()
                               ? truth_now
                               : track_truth(label_truth(then, x.uv_then, so_patch.patch_half_size_px), truth_now);
-        add_to_score(truth, x.motion, so_patch, &r.score);
+        add_to_score(truth, x.motion, so_patch, &r.score_all_distances);
+        add_to_score(truth, x.motion, so_range, &r.score);
+        if (options.on_scored) {
+          const auto d = truth > 0 ? so_range.label_distance_m.find(truth) : so_range.label_distance_m.end();
+          options.on_scored(k, x, truth, d != so_range.label_distance_m.end() ? d->second : std::nan(""));
+        }
       }
     }
     if (k > 0) {  // the first frame has nothing to classify

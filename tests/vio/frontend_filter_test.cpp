@@ -96,6 +96,55 @@ TEST(DynamicFeatureFilter, MovingCameraAndRigidGroupOnFisheyeTracks) {
   EXPECT_GE(total.recall(), 0.8) << total.true_positive << " tp, " << total.false_negative << " fn";
 }
 
+// A crowd moving as one (a queue of walkers) holding more matches than the background wins a RANSAC
+// over all matches: the background is then flagged. Fitted on the trusted matches (static in their
+// last test; here 30 of the 40 background points and 5 of the crowd's), the camera's motion is found
+// and the crowd is flagged.
+TEST(DynamicFeatureFilter, TrustedMatchesKeepTheCameraMotionUnderAMajorityCrowd) {
+  const auto cam = tumvi_camera();
+  DynamicFeatureFilter filter({}, cam);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> n(0.0, 0.2);
+  DetectionScore fitted_on_all, fitted_on_trusted;
+  for (int frame = 0; frame < 10; ++frame) {
+    const SE3 T0 = SE3::exp((Eigen::Matrix<double, 6, 1>() << 0.2 * u(rng), 0.1 * u(rng), 0.2 * u(rng), 0.05 * u(rng),
+                             0.05 * u(rng), 0.05 * u(rng)).finished());
+    const SE3 T1 = SE3::exp((Eigen::Matrix<double, 6, 1>() << -0.1, 0.02 * u(rng), 0.02 * u(rng), 0.01 * u(rng),
+                             0.01 * u(rng), 0.01 * u(rng)).finished()) * T0;
+    const Eigen::Vector3d crowd_step(0.0, 0.12, 0.03);  // the whole crowd walks 1.2 m/s for 0.1 s
+    std::vector<Eigen::Vector2d> prev, cur;
+    std::vector<int> label;
+    std::vector<char> trusted;
+    auto add = [&](const Eigen::Vector3d& pw, const Eigen::Vector3d& step, int l) {
+      Eigen::Vector2d a, b;
+      if (!cam->project(T0.act(pw), &a) || !cam->project(T1.act(pw + step), &b)) return;
+      if (!cam->in_image(a, 2) || !cam->in_image(b, 2)) return;
+      prev.push_back(a + Eigen::Vector2d(n(rng), n(rng))), cur.push_back(b + Eigen::Vector2d(n(rng), n(rng)));
+      label.push_back(l);
+    };
+    for (int i = 0; i < 40; ++i) add(Eigen::Vector3d(4 * u(rng), 3 * u(rng), 7 + 3 * u(rng)), Eigen::Vector3d::Zero(), 0);
+    for (int i = 0; i < 110; ++i) add(Eigen::Vector3d(1.5 * u(rng), 1.0 * u(rng), 2.5 + 0.5 * u(rng)), crowd_step, 1);
+    int static_seen = 0, crowd_seen = 0;
+    for (int l : label) {
+      const int& seen = l == 0 ? static_seen : crowd_seen;
+      trusted.push_back(l == 0 ? seen < 30 : seen < 5);
+      ++(l == 0 ? static_seen : crowd_seen);
+    }
+    fitted_on_all += score_against_feature_labels(label, filter.classify(prev, cur).flags);
+    fitted_on_trusted += score_against_feature_labels(label, filter.classify(prev, cur, &trusted).flags);
+  }
+  std::printf("majority crowd: fitted on all precision %.3f recall %.3f (fp %ld); on trusted %.3f / %.3f (fp %ld)\n",
+              fitted_on_all.precision(), fitted_on_all.recall(), fitted_on_all.false_positive, fitted_on_trusted.precision(),
+              fitted_on_trusted.recall(), fitted_on_trusted.false_positive);
+  EXPECT_GE(fitted_on_trusted.precision(), 0.9);
+  EXPECT_GE(fitted_on_trusted.recall(), 0.9);
+  EXPECT_LT(fitted_on_all.recall(), 0.5);  // the crowd's motion won: the crowd is "static"
+  const std::vector<Eigen::Vector2d> two(2, Eigen::Vector2d(100, 100));
+  const std::vector<char> one(1, 1);
+  EXPECT_THROW(filter.classify(two, two, &one), std::invalid_argument);
+}
+
 TEST(DynamicFeatureFilter, WithoutTheDynamicGroupNearlyNothingIsFlagged) {
   const auto cam = tumvi_camera();
   DynamicFeatureFilter filter({}, cam);
@@ -242,6 +291,36 @@ TEST(FrontendScoring, PatchRuleSeparatesSilhouettes) {
   const DetectionScore slow = score_against_labels(uv, flags, labels, patch);
   EXPECT_EQ(slow.excluded, 2);
   EXPECT_EQ(slow.true_positive, 0);
+}
+
+// Issue 13 scores objects "at 2–6 m": a feature on an object outside the distance range is neither a
+// hit, a miss nor a false alarm (like a slow one); ids without a distance and the static scene are
+// always scored; the range's ends are inside.
+TEST(FrontendScoring, DistanceRangeExcludesNearAndFarObjects) {
+  const std::vector<int> labels{1, 1, 2, 2, 3, 4, 5, 0, 0};
+  const std::vector<FeatureMotion> flags{FeatureMotion::kDynamic, FeatureMotion::kStatic, FeatureMotion::kDynamic,
+                                         FeatureMotion::kUnknown, FeatureMotion::kDynamic, FeatureMotion::kDynamic,
+                                         FeatureMotion::kStatic, FeatureMotion::kDynamic, FeatureMotion::kStatic};
+  DetectionScoreOptions o;
+  o.label_distance_m = {{1, 1.2}, {2, 4.0}, {3, 7.5}, {4, 6.0}};  // 5: no distance known
+  const DetectionScore s = score_against_feature_labels(labels, flags, o);
+  EXPECT_EQ(s.excluded_range, 3);   // object 1 at 1.2 m (2 features), object 3 at 7.5 m
+  EXPECT_EQ(s.true_positive, 2);    // object 2, object 4 (6.0 m: the range is closed)
+  EXPECT_EQ(s.false_negative, 2);   // object 2 unknown, object 5 static
+  EXPECT_EQ(s.false_positive, 1);   // the static scene is always scored
+  EXPECT_EQ(s.true_negative, 1);
+  EXPECT_DOUBLE_EQ(s.precision(), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.recall(), 0.5);
+  // A slow object is excluded as slow whatever its distance; without distances nothing is excluded by range.
+  o.label_speed_mps = {{2, 0.1}};
+  const DetectionScore slow = score_against_feature_labels(labels, flags, o);
+  EXPECT_EQ(slow.excluded, 2);
+  EXPECT_EQ(slow.excluded_range, 3);
+  DetectionScoreOptions all;
+  EXPECT_EQ(score_against_feature_labels(labels, flags, all).excluded_range, 0);
+  DetectionScore sum = s;
+  sum += s;
+  EXPECT_EQ(sum.excluded_range, 6);
 }
 
 }  // namespace

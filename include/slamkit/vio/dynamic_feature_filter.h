@@ -15,6 +15,9 @@
 //      so that the threshold means the same at the centre and at the rim of a fisheye image;
 //      d_img > threshold_px ⇒ dynamic, else static;
 //   4. M = static / (static + dynamic) of the frame.
+// With a trusted subset (classify's third argument, e.g. the tracks static in their last test)
+// the motion model of step 3 is fitted on it alone and every match is tested against it; on
+// bearings E is refined by robust least squares after the linear refit (see the options).
 // Fewer than min_matches usable matches, or a RANSAC that finds no F, is a handled condition:
 // every feature is "unknown", M = 1 (nothing is known to move), and the status says why.
 #pragma once
@@ -54,6 +57,17 @@ struct DynamicFilterOptions {
   /// times fx, in pixels, instead of F on the virtual pinhole (whose rim magnification, 1/cos²θ,
   /// lets the rim points either leave the RANSAC or dominate the fit; docs/frontend.md).
   bool spherical = true;
+  /// With a trusted subset given to classify(): the camera's motion (F, or E and the rotation) is
+  /// fitted on the trusted matches alone when at least this many are usable, then every match is
+  /// tested against it; fewer: fitted on all. A crowd moving as one (a queue of walkers) can hold
+  /// more matches than the background and win the RANSAC on all matches (docs/frontend.md,
+  /// session 25); tracks that were static in their last test cannot be that crowd's.
+  int min_trusted_matches = 16;
+  /// Spherical mode: refine E = [t]× R after the linear refit by Levenberg–Marquardt on the
+  /// matches it was fitted on, minimizing Σ ρ(s_i), s_i = b2·(t × R b1) / |t × R b1| (the sine of
+  /// the angle between b2 and the epipolar plane), ρ the Cauchy loss at ransac_threshold_px / fx.
+  /// The linear 8-point minimizes an algebraic error that weighs the matches unequally.
+  bool refine_essential = true;
 };
 
 struct Classification {
@@ -73,7 +87,10 @@ class DynamicFeatureFilter {
   explicit DynamicFeatureFilter(DynamicFilterOptions options = {}, std::shared_ptr<const CameraModel> camera = nullptr);
   /// Classifies the matches prev[i] → cur[i] (pixels of two frames). Throws std::invalid_argument
   /// if the sizes differ; non-finite pixels are unknown.
-  Classification classify(const std::vector<Eigen::Vector2d>& prev, const std::vector<Eigen::Vector2d>& cur) const;
+  /// trusted (optional, one per match): the matches the motion model is fitted on (see
+  /// min_trusted_matches); its size must be that of prev if given.
+  Classification classify(const std::vector<Eigen::Vector2d>& prev, const std::vector<Eigen::Vector2d>& cur,
+                          const std::vector<char>* trusted = nullptr) const;
   /// The virtual-pinhole pixel of a raw pixel (step 1); false if it cannot be undistorted.
   bool undistort(const Eigen::Vector2d& uv, Eigen::Vector2d* out) const;
   const DynamicFilterOptions& options() const { return options_; }
@@ -82,8 +99,9 @@ class DynamicFeatureFilter {
   /// ∂(virtual pixel)/∂(raw pixel) at uv by central differences; false for a pinhole (J = I).
   bool undistort_jacobian(const Eigen::Vector2d& uv, Eigen::Matrix2d* J) const;
   /// Step 3 on bearings (spherical): fills c's distances, flags, F; false if no model was found.
+  /// The model is fitted on the matches with fit[k] != 0.
   bool classify_spherical(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
-                          const std::vector<std::size_t>& index, Classification* c) const;
+                          const std::vector<std::size_t>& index, const std::vector<char>& fit, Classification* c) const;
   DynamicFilterOptions options_;
   std::shared_ptr<const CameraModel> camera_;
   double fx_ = 1, fy_ = 1, cx_ = 0, cy_ = 0;

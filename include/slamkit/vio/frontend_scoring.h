@@ -8,6 +8,9 @@
 //     neither the object's nor the background's, so it is counted (mixed, mixed_flagged) but is
 //     neither a hit, a miss nor a false alarm. Pixels outside the image are not part of the patch. With a speed map, an object slower than min_speed_mps is "excluded": a feature on
 // it counts neither as a miss nor as a false alarm (issue 13 scores objects faster than 0.3 m/s).
+// With a distance map (object id -> its distance from the camera in the scored frame), an object
+// outside [min_distance_m, max_distance_m] is excluded the same way (issue 13: "at 2–6 m"); ids
+// not in the map are scored at any distance. Features on the static scene are always scored.
 //   true positive   flagged dynamic, on a counted moving object
 //   false positive  flagged dynamic, on the static scene
 //   false negative  not flagged dynamic (static or unknown), on a counted moving object
@@ -28,12 +31,16 @@ namespace slamkit {
 struct DetectionScoreOptions {
   std::map<int, double> label_speed_mps;  ///< object id -> speed; ids not listed are counted
   double min_speed_mps = 0.3;
+  /// object id -> distance from the camera in the scored frame [m]; ids not listed are counted
+  std::map<int, double> label_distance_m;
+  double min_distance_m = 2.0, max_distance_m = 6.0;  ///< objects outside are excluded (issue 13: 2–6 m)
   int patch_half_size_px = 0;  ///< 0: centre-pixel rule; h > 0: the (2h+1)² patch rule (see above)
 };
 
 struct DetectionScore {
   long true_positive = 0, false_positive = 0, false_negative = 0, true_negative = 0;
   long excluded = 0;       ///< on a moving object slower than min_speed_mps
+  long excluded_range = 0; ///< on a moving object (fast enough) outside the distance range
   long unknown = 0;        ///< flagged unknown (also counted above as "not dynamic")
   long outside = 0;        ///< pixel outside the label image (not scored)
   long mixed = 0;          ///< patch rule: the patch holds static and moving pixels (not scored)

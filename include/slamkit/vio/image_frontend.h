@@ -25,12 +25,16 @@
 // of surfaces at different depths, an occlusion edge, a walker's silhouette) changes its patch as
 // the background slides behind the edge, while a surface point, static or on a rigid mover, keeps it.
 // Its epipolar distance is not a point's motion, so neither flag would be right.
+// Trusted tracks (trusted_model): the camera's motion of each test is fitted on the tracks whose
+// last test was static (DynamicFilterOptions::min_trusted_matches), so that a crowd moving as one,
+// whose tracks are new or flagged, cannot take over the RANSAC.
 // M = static / (static + dynamic) over the features of the frame.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <unordered_map>
 #include <unordered_set>
@@ -58,6 +62,10 @@ struct ImageFrontendOptions {
   /// Appearance check over the tested baseline (see above); ≤ -1 disables it. The patch half size
   /// is tracker.patch_half_px.
   double min_patch_ncc_baseline = -1.0;
+  /// Fit the camera's motion on the trusted tracks (DynamicFilterOptions::min_trusted_matches):
+  /// those with at least trusted_min_tests epipolar tests, the last of them static.
+  bool trusted_model = true;
+  int trusted_min_tests = 1;
 };
 
 struct FrontendFeature {
@@ -67,6 +75,9 @@ struct FrontendFeature {
   int baseline = 0;  ///< frames between the two views it was classified on (0: not classified)
   Eigen::Vector2d uv_then = Eigen::Vector2d::Zero();  ///< its pixel `baseline` frames ago (baseline > 0)
   double distance_px = 0.0;  ///< epipolar distance (or static-camera flow residual) of this frame's test; NaN if none
+  /// The frame-to-frame test's distance (baseline 1) of every tracked feature, also of those
+  /// classified on the long baseline; NaN if it did not run.
+  double distance_1_px = std::numeric_limits<double>::quiet_NaN();
   int hits = 0;      ///< tests over the threshold among the track's last consistency_checks
   int checks = 0;    ///< tests kept (≤ consistency_checks)
 };
