@@ -88,6 +88,19 @@ TEST(RenderedScene, CrowdBurstsCrossTheViewAtTheHighLevel) {
   const ImageRenderer renderer(w.scene, *w.sim.camera);
   GrayImage image, labels;
   const double tc = w.scene.burst_centres.front();
+  // Queues in front of and behind the camera (burst_rows_behind): the stream passes on both sides.
+  const SE3 T_wc = w.spline.pose(tc) * w.sim.T_cam_imu.inverse();
+  Eigen::Vector3d view = T_wc.rotation().act(Eigen::Vector3d::UnitZ());
+  view.z() = 0.0;
+  int in_front = 0, behind = 0;
+  for (std::size_t k = w.sim.groups.size(); k < w.scene.walkers.size(); ++k) {
+    const SimMovingGroup& g = w.scene.walkers[k].path;
+    if (!g.active(tc)) continue;
+    const double along = (g.pose(tc).translation() - T_wc.translation()).dot(view);
+    in_front += along > 0.0, behind += along < 0.0;
+  }
+  EXPECT_GT(in_front, 0);
+  EXPECT_GT(behind, 0);
   std::size_t k = 0;
   while (k + 1 < w.sim.frames.size() && w.sim.frames[k].t < tc) ++k;
   renderer.render(w.sim.frames[k].t, frame_camera_pose(w.sim, w.sim.frames[k]), &image, &labels);
