@@ -43,7 +43,8 @@ void add_crowd_bursts(const VisualInertialSim& sim, const BSplineTrajectory& tra
     const double heading = std::atan2(view.y(), view.x()) + sign * M_PI / 2 + uni(-M_PI / 12, M_PI / 12);
     const Eigen::Vector3d dir(std::cos(heading), std::sin(heading), 0.0);
     const double d0 = uni(o.burst_first_row_min, o.burst_first_row_max);
-    const double d0_behind = uni(o.burst_first_row_min, o.burst_first_row_max);
+    // Drawn only with queues behind, so that the default scene's stream is that of session 24.
+    const double d0_behind = o.burst_rows_behind > 0 ? uni(o.burst_first_row_min, o.burst_first_row_max) : 0.0;
     for (int j = 0; j < o.burst_rows + std::max(0, o.burst_rows_behind); ++j) {
       const bool behind = j >= o.burst_rows;
       const double d = behind ? -(d0_behind + (j - o.burst_rows) * o.burst_row_gap) : d0 + j * o.burst_row_gap;
