@@ -39,7 +39,7 @@ struct VioCliOptions {
   int max_iterations = 4;  // measured: 4 beats 8 on ATE and time (docs/vio.md)
   int threads = 1;         // window solver threads (results identical for any count)
   bool quiet = false;
-  std::string dvi = "off", alpha = "M^2", theta = "0.5", solver = "dense";
+  std::string dvi = "off", alpha = "M^2", theta = "0.5", solver = "dense", static_ratio = "all";
   bool images = false;  // issue 13: the front end on rendered images (vio_images.h)
   VioImageCliOptions image;
 };
@@ -75,6 +75,7 @@ void run_vio(const VioCliOptions& o) {
   so.dvi.enabled = o.dvi == "on";
   parse_dvi_alpha(o.alpha, &so.dvi);  // DVI weighting (issue 13): used with --dvi on
   parse_dvi_theta(o.theta, &so.dvi);
+  so.dvi.ratio_of_classified = o.static_ratio == "classified";
   std::ostream& log = o.json == "-" ? std::cerr : std::cout;
   log << "vio: " << sim.source << ", " << sim.frames.size() << " frames, " << sim.imu.size() << " IMU samples, camera "
       << sim.camera->model_name() << ", window " << so.window_size << " keyframes\n";
@@ -138,7 +139,7 @@ void run_vio(const VioCliOptions& o) {
   j["solver"] = o.solver;
   j["threads"] = o.threads;
   j["iterations_per_keyframe"] = static_cast<double>(iterations) / std::max<std::size_t>(1, r.keyframes);
-  j["dvi"] = {{"enabled", so.dvi.enabled}, {"alpha", o.alpha}, {"theta", o.theta}};
+  j["dvi"] = {{"enabled", so.dvi.enabled}, {"alpha", o.alpha}, {"theta", o.theta}, {"static_ratio", o.static_ratio}};
   j["static_ratio"] = {{"mean", m_sum / nf}, {"min", m_min}};
   j["visual_frames_dropped"] = dropped;
   // M per frame (front-end flags, either mode) and its stretches below θ (the fixed θ).
@@ -218,6 +219,9 @@ void add_vio_command(CLI::App& app) {
   sub->add_option("--alpha", o->alpha, "DVI weight of a frame's vision: 1, M or M^k (M = static/all)")->capture_default_str();
   sub->add_option("--theta", o->theta, "DVI: frames with M below this keep no vision (a number, adaptive[:BASE,PER_GROUP,MAX])")
       ->capture_default_str();
+  sub->add_option("--static-ratio", o->static_ratio,
+                  "DVI: M = static / all features of a frame, or static / classified (new, untested tracks left out)")
+      ->check(CLI::IsMember({"all", "classified"}))->capture_default_str();
   sub->add_option("--solver", o->solver, "window solver: dense (vio/dense_window_solver.h) or generic (the Optimizer)")
       ->check(CLI::IsMember({"dense", "generic"}))->capture_default_str();
   sub->add_flag("--images", o->images, "render the frames and run the DVI front end on their pixels (docs/frontend.md)");

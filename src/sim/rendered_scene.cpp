@@ -20,7 +20,7 @@ std::mt19937_64 scene_rng(std::uint64_t seed, std::uint64_t which) {
 void add_crowd_bursts(const VisualInertialSim& sim, const BSplineTrajectory& trajectory, std::uint64_t seed,
                       const RenderedSceneOptions& o, const std::vector<int>& person_textures, RenderedScene* scene) {
   if (sim.dynamic != DynamicLevel::kHigh || !(o.burst_interval_s > 0.0) || sim.frames.empty() ||
-      o.burst_rows < 1 || o.burst_people_per_row < 1)
+      o.burst_rows + std::max(0, o.burst_rows_behind) < 1 || o.burst_people_per_row < 1)
     return;
   std::mt19937_64 rng = scene_rng(seed, 6);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -43,10 +43,14 @@ void add_crowd_bursts(const VisualInertialSim& sim, const BSplineTrajectory& tra
     const double heading = std::atan2(view.y(), view.x()) + sign * M_PI / 2 + uni(-M_PI / 12, M_PI / 12);
     const Eigen::Vector3d dir(std::cos(heading), std::sin(heading), 0.0);
     const double d0 = uni(o.burst_first_row_min, o.burst_first_row_max);
-    for (int j = 0; j < o.burst_rows; ++j) {
+    // Drawn only with queues behind, so that the default scene's stream is that of session 24.
+    const double d0_behind = o.burst_rows_behind > 0 ? uni(o.burst_first_row_min, o.burst_first_row_max) : 0.0;
+    for (int j = 0; j < o.burst_rows + std::max(0, o.burst_rows_behind); ++j) {
+      const bool behind = j >= o.burst_rows;
+      const double d = behind ? -(d0_behind + (j - o.burst_rows) * o.burst_row_gap) : d0 + j * o.burst_row_gap;
       const double v = uni(o.burst_speed_min, o.burst_speed_max), phase = uni(0.0, o.burst_spacing);
       const int texture_base = static_cast<int>(uni(0.0, static_cast<double>(person_textures.size())));
-      Eigen::Vector3d mid = T_wc.translation() + (d0 + j * o.burst_row_gap) * view;
+      Eigen::Vector3d mid = T_wc.translation() + d * view;
       mid.z() = lo.z();  // feet on the floor
       for (int i = 0; i < o.burst_people_per_row; ++i) {
         // Position at t: mid + (offset + v (t − t_c)) · dir, the queue's middle at mid at t_c.

@@ -136,6 +136,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       SimObservation o;
       o.track_id = x.id, o.landmark_id = -1, o.uv = x.uv;
       o.dynamic = x.motion == FeatureMotion::kDynamic;
+      o.classified = x.motion != FeatureMotion::kUnknown;
       obs.push_back(o);
     }
     features += static_cast<double>(f.features.size());

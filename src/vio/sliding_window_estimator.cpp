@@ -241,11 +241,15 @@ FrameEstimate SlidingWindowEstimator::add_frame(const CameraFrame& frame) {
   FrameEstimate out;
   out.stamp = frame.stamp;
   out.features = static_cast<int>(frame.features.size());
-  // DVI: M = static / all by the front end's flags; with dvi on the dynamic observations go,
-  // the frame's vision is weighted by α(M), or dropped when M < θ.
-  int n_static = 0;
-  for (const FeatureObservation& o : frame.features) n_static += !o.dynamic;
-  out.static_ratio = frame.features.empty() ? 1.0 : static_cast<double>(n_static) / frame.features.size();
+  // DVI: M = static / all by the front end's flags (or static / classified, untested tracks out of
+  // both counts); with dvi on the dynamic observations go, the frame's vision is weighted by α(M),
+  // or dropped when M < θ.
+  int n_static = 0, n_counted = 0;
+  for (const FeatureObservation& o : frame.features) {
+    if (options_.dvi.ratio_of_classified && !o.classified) continue;
+    n_static += !o.dynamic, ++n_counted;
+  }
+  out.static_ratio = n_counted == 0 ? 1.0 : static_cast<double>(n_static) / n_counted;
   CameraFrame used;
   const CameraFrame* in = &frame;
   if (options_.dvi.enabled) {

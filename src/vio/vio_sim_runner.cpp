@@ -39,7 +39,11 @@ double yaw_of(const SO3& R) {
 CameraFrame camera_frame(const SimFrame& f) {
   CameraFrame cf;
   cf.stamp = f.t;
-  for (const SimObservation& o : f.observations) cf.features.push_back({static_cast<std::uint64_t>(o.track_id), o.uv});
+  for (const SimObservation& o : f.observations) {
+    FeatureObservation x;
+    x.track_id = static_cast<std::uint64_t>(o.track_id), x.pixel = o.uv, x.classified = o.classified;
+    cf.features.push_back(x);
+  }
   return cf;
 }
 

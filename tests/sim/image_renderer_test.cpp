@@ -23,13 +23,14 @@ struct World {
   VisualInertialSimOptions options;
   VisualInertialSim sim;
   RenderedScene scene;
-  World(DynamicLevel level, int furniture, std::uint64_t seed = 1) {
+  World(DynamicLevel level, int furniture, std::uint64_t seed = 1, int burst_rows_behind = 0) {
     options.seed = seed;
     options.dynamic = level;
     sim = simulate_visual_inertial(spline, tumvi_camera(), tumvi_T_cam_imu(), options);
     RenderedSceneOptions ro;
     ro.furniture_count = furniture;
     ro.texture_size = 256;  // keeps the test fast
+    ro.burst_rows_behind = burst_rows_behind;
     scene = build_rendered_scene(sim, spline, options, ro);
   }
 };
@@ -88,6 +89,24 @@ TEST(RenderedScene, CrowdBurstsCrossTheViewAtTheHighLevel) {
   const ImageRenderer renderer(w.scene, *w.sim.camera);
   GrayImage image, labels;
   const double tc = w.scene.burst_centres.front();
+  // Queues in front of and behind the camera with burst_rows_behind (default 0: in front only).
+  for (int rows_behind : {0, 2}) {
+    const World s(DynamicLevel::kHigh, 8, 1, rows_behind);
+    const double t = s.scene.burst_centres.front();
+    const SE3 T_wc = s.spline.pose(t) * s.sim.T_cam_imu.inverse();
+    Eigen::Vector3d view = T_wc.rotation().act(Eigen::Vector3d::UnitZ());
+    view.z() = 0.0;
+    int in_front = 0, behind = 0;
+    for (std::size_t k = s.sim.groups.size(); k < s.scene.walkers.size(); ++k) {
+      const SimMovingGroup& g = s.scene.walkers[k].path;
+      if (!g.active(t)) continue;
+      const double along = (g.pose(t).translation() - T_wc.translation()).dot(view);
+      in_front += along > 0.0, behind += along < 0.0;
+    }
+    EXPECT_GT(in_front, 0);
+    if (rows_behind > 0) EXPECT_GT(behind, 0);
+    else EXPECT_EQ(behind, 0);
+  }
   std::size_t k = 0;
   while (k + 1 < w.sim.frames.size() && w.sim.frames[k].t < tc) ++k;
   renderer.render(w.sim.frames[k].t, frame_camera_pose(w.sim, w.sim.frames[k]), &image, &labels);

@@ -124,6 +124,40 @@ TEST(SlidingWindowEstimator, DviDropsDynamicFeaturesAndVisionBelowTheta) {
   }
 }
 
+// M over the classified features: untested (new) tracks count as static in M = static / all and
+// are left out of both counts with ratio_of_classified; a frame with none classified has M = 1.
+TEST(SlidingWindowEstimator, StaticRatioOverClassifiedLeavesNewTracksOut) {
+  const double t0 = 0.5, t1 = 1.5;
+  const testing::VioScene scene(t0, t1, 7, 200);
+  for (bool classified_only : {false, true}) {
+    SlidingWindowOptions o;
+    o.gravity = scene.motion.gravity;
+    o.imu_noise = scene.noise;
+    o.dvi.enabled = true;
+    o.dvi.ratio_of_classified = classified_only;
+    SlidingWindowEstimator est(o, scene.camera, scene.T_imu_cam);
+    est.initialize(t0, scene.motion.state(t0));
+    std::size_t next_imu = 0;
+    for (std::size_t k = 0; k < scene.frames.size(); ++k) {
+      CameraFrame f = scene.frames[k];
+      // Every 4th track untested, every 4th (other) one dynamic; frame 3: nothing tested.
+      int n_static = 0, n_dynamic = 0, n_new = 0;
+      for (std::size_t i = 0; i < f.features.size(); ++i) {
+        FeatureObservation& ob = f.features[i];
+        ob.classified = k != 3 && i % 4 != 0;
+        ob.dynamic = ob.classified && i % 4 == 1;
+        n_new += !ob.classified, n_dynamic += ob.dynamic, n_static += ob.classified && !ob.dynamic;
+      }
+      ASSERT_GT(f.features.size(), 8u);
+      while (next_imu < scene.imu.size() && scene.imu[next_imu].stamp <= f.stamp + 0.01) est.add_imu(scene.imu[next_imu++]);
+      const FrameEstimate e = est.add_frame(f);
+      const double expected = classified_only ? (n_static + n_dynamic == 0 ? 1.0 : double(n_static) / (n_static + n_dynamic))
+                                              : double(n_static + n_new) / f.features.size();
+      EXPECT_NEAR(e.static_ratio, expected, 1e-12) << "frame " << k;
+    }
+  }
+}
+
 TEST(SlidingWindowEstimator, BadInput) {
   const testing::VioScene scene(0.5, 1.0, 3, 100);
   SlidingWindowEstimator est({}, scene.camera, scene.T_imu_cam);

@@ -107,6 +107,9 @@ struct SimObservation {
   std::int64_t landmark_id = 0;
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  ///< noisy pixel
   bool dynamic = false;                          ///< label: the landmark belongs to a moving group
+  /// false: the front end has not tested the track yet (a new track on images); the simulator's
+  /// labels are always known.
+  bool classified = true;
 };
 
 struct SimFrame {

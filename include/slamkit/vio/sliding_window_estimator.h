@@ -50,6 +50,7 @@ struct FeatureObservation {
   std::uint64_t track_id = 0;
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
   bool dynamic = false;  ///< the front end's classification (vio/feature_classifier.h)
+  bool classified = true;  ///< false: not tested yet (a new track); counted static, see DviOptions
 };
 
 struct CameraFrame {
@@ -59,7 +60,8 @@ struct CameraFrame {
 };
 
 /// Adaptive visual weighting (DVI-SLAM, issue 13 part 2). α(M) for M = static / all features of
-/// a frame: kOne α = 1, kRatio α = M, kPower α = M^alpha_power. θ: fixed, or (adaptive_theta)
+/// a frame (with `ratio_of_classified`: static / classified, the front end's untested new tracks left
+/// out of both counts; 1 when none is classified): kOne α = 1, kRatio α = M, kPower α = M^alpha_power. θ: fixed, or (adaptive_theta)
 /// θ = min(theta_max, theta + theta_per_group · dynamic_groups) when the front end counts groups.
 struct DviOptions {
   enum class Alpha { kOne, kRatio, kPower };
@@ -67,6 +69,7 @@ struct DviOptions {
   Alpha alpha = Alpha::kPower;  // α = M², measured best of 1, M, M², M³ on rendered rooms (docs/frontend.md)
   double alpha_power = 2.0;
   double theta = 0.5;
+  bool ratio_of_classified = false;
   bool adaptive_theta = false;
   double theta_per_group = 0.05, theta_max = 0.8;
   /// θ for a frame that sees `groups` moving groups (−1: unknown ⇒ the fixed θ).
@@ -110,7 +113,7 @@ struct FrameEstimate {
   int features_in_problem = 0; ///< features in the window's problem after this frame
   int iterations = 0;
   double solve_ms = 0.0, marginalization_ms = 0.0;
-  double static_ratio = 1.0;   ///< M = static / all features of the frame (front-end flags)
+  double static_ratio = 1.0;   ///< M of the frame (front-end flags; DviOptions::ratio_of_classified)
   double visual_weight = 1.0;  ///< α(M) its visual factors got (0: dropped)
   bool visual_dropped = false; ///< DVI: M < θ, the frame kept no visual factors
 };
