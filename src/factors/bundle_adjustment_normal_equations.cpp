@@ -85,6 +85,19 @@ struct PassData {
   int np;
 };
 
+// Point j's blocks from its sums: C_j (symmetric, from the upper triangle c00 c01 c02 c11 c12
+// c22), g_j and the diagonal D_j = diag(C_j).
+inline void store_point_blocks(const PassData& d, int j, double c00, double c01, double c02, double c11, double c12,
+                               double c22, double g0, double g1, double g2) {
+  const int ld = d.hessian->leading_dim(j);
+  double* Cj = d.H + d.c_off[j];
+  Cj[0] = c00, Cj[1] = c01, Cj[2] = c02;
+  Cj[ld] = c01, Cj[ld + 1] = c11, Cj[ld + 2] = c12;
+  Cj[2 * ld] = c02, Cj[2 * ld + 1] = c12, Cj[2 * ld + 2] = c22;
+  d.g[3 * j] = g0, d.g[3 * j + 1] = g1, d.g[3 * j + 2] = g2;
+  d.diag[3 * j] = c00, d.diag[3 * j + 1] = c11, d.diag[3 * j + 2] = c22;
+}
+
 // Four lanes (the point pass without AVX-512, the camera pass's sums).
 typedef double L4 __attribute__((vector_size(32)));
 typedef double L4u __attribute__((vector_size(32), aligned(8), may_alias));
@@ -122,13 +135,7 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points4(const
     previous_camera = -1;
   };
   auto flush = [&] {
-    const int ld = d.hessian->leading_dim(j);
-    double* Cj = d.H + d.c_off[j];
-    Cj[0] = acc0[0], Cj[1] = acc0[1], Cj[2] = acc0[2];
-    Cj[ld] = acc0[1], Cj[ld + 1] = acc0[3], Cj[ld + 2] = acc1[0];
-    Cj[2 * ld] = acc0[2], Cj[2 * ld + 1] = acc1[0], Cj[2 * ld + 2] = acc1[1];
-    d.g[3 * j] = acc1[2], d.g[3 * j + 1] = acc1[3], d.g[3 * j + 2] = g2;
-    d.diag[3 * j] = acc0[0], d.diag[3 * j + 1] = acc0[3], d.diag[3 * j + 2] = acc1[1];
+    store_point_blocks(d, j, acc0[0], acc0[1], acc0[2], acc0[3], acc1[0], acc1[1], acc1[2], acc1[3], g2);
     ++j;
     reset();
   };
@@ -237,13 +244,7 @@ __attribute__((target("avx512f"))) double linearize_points8(const PassData& d, i
   int j = j_begin;
   auto reset = [&] { acc = L8{}, g2 = 0.0; };
   auto flush = [&] {
-    const int ld = d.hessian->leading_dim(j);
-    double* Cj = d.H + d.c_off[j];
-    Cj[0] = acc[0], Cj[1] = acc[1], Cj[2] = acc[2];
-    Cj[ld] = acc[1], Cj[ld + 1] = acc[3], Cj[ld + 2] = acc[4];
-    Cj[2 * ld] = acc[2], Cj[2 * ld + 1] = acc[4], Cj[2 * ld + 2] = acc[5];
-    d.g[3 * j] = acc[6], d.g[3 * j + 1] = acc[7], d.g[3 * j + 2] = g2;
-    d.diag[3 * j] = acc[0], d.diag[3 * j + 1] = acc[3], d.diag[3 * j + 2] = acc[5];
+    store_point_blocks(d, j, acc[0], acc[1], acc[2], acc[3], acc[4], acc[5], acc[6], acc[7], g2);
     ++j;
     reset();
   };
