@@ -78,16 +78,22 @@ TEST(SlidingWindowEstimator, ConvergesWithRotationCompensatedKeyframes) {
   EXPECT_LT(r.up_error, 0.04);
 }
 
+// The window's options for a test scene: its gravity and IMU noise, DVI on or off.
+SlidingWindowOptions scene_options(const testing::VioScene& scene, bool dvi) {
+  SlidingWindowOptions o;
+  o.gravity = scene.motion.gravity;
+  o.imu_noise = scene.noise;
+  o.dvi.enabled = dvi;
+  return o;
+}
+
 // DVI: features flagged dynamic are not used; a frame with M < θ keeps no vision (IMU only) and
 // the run goes on; baseline mode reports M but uses every feature.
 TEST(SlidingWindowEstimator, DviDropsDynamicFeaturesAndVisionBelowTheta) {
   const double t0 = 0.5, t1 = 3.5;
   const testing::VioScene scene(t0, t1, 11, 300);
   for (bool dvi : {false, true}) {
-    SlidingWindowOptions o;
-    o.gravity = scene.motion.gravity;
-    o.imu_noise = scene.noise;
-    o.dvi.enabled = dvi;
+    SlidingWindowOptions o = scene_options(scene, dvi);
     o.dvi.theta = 0.5;
     SlidingWindowEstimator est(o, scene.camera, scene.T_imu_cam);
     est.initialize(t0, scene.motion.state(t0));
@@ -130,10 +136,7 @@ TEST(SlidingWindowEstimator, StaticRatioOverClassifiedLeavesNewTracksOut) {
   const double t0 = 0.5, t1 = 1.5;
   const testing::VioScene scene(t0, t1, 7, 200);
   for (bool classified_only : {false, true}) {
-    SlidingWindowOptions o;
-    o.gravity = scene.motion.gravity;
-    o.imu_noise = scene.noise;
-    o.dvi.enabled = true;
+    SlidingWindowOptions o = scene_options(scene, true);
     o.dvi.ratio_of_classified = classified_only;
     SlidingWindowEstimator est(o, scene.camera, scene.T_imu_cam);
     est.initialize(t0, scene.motion.state(t0));
