@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -129,11 +130,8 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points4(const
   // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j: (c00 c01 c02 c11), (c12 c22 g0 g1), g2.
   L4 acc0, acc1;
   double g2;
-  int j = j_begin, previous_camera = -1;
-  auto reset = [&] {
-    acc0 = L4{}, acc1 = L4{}, g2 = 0.0;
-    previous_camera = -1;
-  };
+  int j = j_begin;
+  auto reset = [&] { acc0 = L4{}, acc1 = L4{}, g2 = 0.0; };
   auto flush = [&] {
     store_point_blocks(d, j, acc0[0], acc0[1], acc0[2], acc0[3], acc1[0], acc1[1], acc1[2], acc1[3], g2);
     ++j;
@@ -190,7 +188,7 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points4(const
       sum += cost[k];
       acc0 += T0[k], acc1 += T1[k], g2 += t_g2[k];
       // A repeated (camera, point) pair is adjacent in camera order and shares its W block.
-      const bool accumulate = o[k]->camera == previous_camera;
+      const bool accumulate = q + k > 0 && d.pt_obs[q + k - 1].w_off == o[k]->w_off;
       const int ld = d.hessian->leading_dim(j);
       double* __restrict w = d.H + o[k]->w_off;
       if (!accumulate) {
@@ -201,7 +199,6 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points4(const
           store4(w, L4(*reinterpret_cast<const L4u*>(w)) + WT[col][0][k]),
               store4(w + 4, L4(*reinterpret_cast<const L4u*>(w + 4)) + WT[col][1][k]), w[8] += W[9 * col + 8][k];
       }
-      previous_camera = o[k]->camera;
     }
   }
   while (j < j_end) flush();  // the last point (and any without observations)
@@ -316,10 +313,12 @@ const bool kHaveAvx512 = [] {
   __builtin_cpu_init();  // a static initializer may run before the CPU model is known
   return __builtin_cpu_supports("avx512f") != 0;
 }();
+std::atomic<bool> allow_eight_lanes{true};  // bal_point_pass_allow_eight_lanes (tests)
 
 // The point pass, eight lanes where the CPU has AVX-512, else four (the same bits either way).
 double linearize_points(const PassData& d, int j_begin, int j_end, double sum) {
-  return kHaveAvx512 ? linearize_points8(d, j_begin, j_end, sum) : linearize_points4(d, j_begin, j_end, sum);
+  return kHaveAvx512 && allow_eight_lanes.load(std::memory_order_relaxed) ? linearize_points8(d, j_begin, j_end, sum)
+                                                                          : linearize_points4(d, j_begin, j_end, sum);
 }
 
 // Cameras [i_begin, i_end): B_i = Σ_j F_ijᵀF_ij and g_i = Σ_j F_ijᵀr_ij. F_ij, r_ij are recomputed
@@ -664,5 +663,7 @@ double BalNormalEquations::parameter_norm(const BalState& x) {
   for (const auto& X : x.points) s += X.squaredNorm();
   return std::sqrt(s);
 }
+
+void bal_point_pass_allow_eight_lanes(bool allow) { allow_eight_lanes.store(allow); }
 
 }  // namespace slamkit

@@ -276,7 +276,10 @@ Eigen::Matrix3d refine_essential_lm(const Eigen::Matrix3d& E0, const std::vector
   const double c2 = scale * scale;
   auto cost = [&](const Eigen::Matrix3d& Rr, const Eigen::Vector3d& tt) {
     double sum = 0.0;
-    for (int i = 0; i < m; ++i) sum += std::log1p(epipolar_sine(Rr, tt, b1[i], b2[i]) * epipolar_sine(Rr, tt, b1[i], b2[i]) / c2);
+    for (int i = 0; i < m; ++i) {
+      const double s = epipolar_sine(Rr, tt, b1[i], b2[i]);
+      sum += std::log1p(s * s / c2);
+    }
     return sum;
   };
   double current = cost(R, t), lambda = 1e-3;
@@ -284,18 +287,20 @@ Eigen::Matrix3d refine_essential_lm(const Eigen::Matrix3d& E0, const std::vector
     Eigen::Vector3d e1 = t.unitOrthogonal(), e2 = t.cross(e1);
     Eigen::Matrix<double, 5, 5> H = Eigen::Matrix<double, 5, 5>::Zero();
     Eigen::Matrix<double, 5, 1> g = Eigen::Matrix<double, 5, 1>::Zero();
+    // The ±h moves of the five coordinates do not depend on the match: built once per iteration.
     const double h = 1e-6;
+    Eigen::Matrix3d Rp[5], Rm[5];
+    Eigen::Vector3d tp[5], tm[5];
+    for (int k = 0; k < 5; ++k) {
+      Eigen::Matrix<double, 5, 1> x = Eigen::Matrix<double, 5, 1>::Zero();
+      x(k) = h, perturb(R, t, e1, e2, x, &Rp[k], &tp[k]);
+      x(k) = -h, perturb(R, t, e1, e2, x, &Rm[k], &tm[k]);
+    }
     for (int i = 0; i < m; ++i) {
       const double s = epipolar_sine(R, t, b1[i], b2[i]);
       Eigen::Matrix<double, 1, 5> J;
-      for (int k = 0; k < 5; ++k) {
-        Eigen::Matrix<double, 5, 1> x = Eigen::Matrix<double, 5, 1>::Zero();
-        Eigen::Matrix3d Rp, Rm;
-        Eigen::Vector3d tp, tm;
-        x(k) = h, perturb(R, t, e1, e2, x, &Rp, &tp);
-        x(k) = -h, perturb(R, t, e1, e2, x, &Rm, &tm);
-        J(k) = (epipolar_sine(Rp, tp, b1[i], b2[i]) - epipolar_sine(Rm, tm, b1[i], b2[i])) / (2 * h);
-      }
+      for (int k = 0; k < 5; ++k)
+        J(k) = (epipolar_sine(Rp[k], tp[k], b1[i], b2[i]) - epipolar_sine(Rm[k], tm[k], b1[i], b2[i])) / (2 * h);
       const double w = 1.0 / (1.0 + s * s / c2);  // IRLS weight of the Cauchy loss
       H += w * J.transpose() * J, g += w * J.transpose() * s;
     }

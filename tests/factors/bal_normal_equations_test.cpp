@@ -92,6 +92,27 @@ TEST(BalNormalEquations, MatchTheFactorGraph) {
   }
 }
 
+// The point pass on four lanes gives the bits of the eight-lane pass (where the CPU has AVX-512;
+// elsewhere both runs take four lanes): H, g, diag(H) and the cost, with a repeated pair.
+TEST(BalNormalEquations, FourAndEightLanesGiveTheSameBits) {
+  BalProblem p = small_problem(6, 300, 5);
+  p.observations.push_back(p.observations[11]);
+  p.observations.back().pixel.y() -= 0.4;
+  for (auto kernel : {std::shared_ptr<const RobustKernel>(), make_robust_kernel("cauchy", 1.0)}) {
+    const ThreadPool pool(2);
+    const BalState x = make_bal_state(p);
+    BalNormalEquations wide(p, kernel, pool), narrow(p, kernel, pool);
+    const double c_wide = wide.linearize(x);
+    bal_point_pass_allow_eight_lanes(false);
+    const double c_narrow = narrow.linearize(x);
+    bal_point_pass_allow_eight_lanes(true);
+    EXPECT_EQ(c_wide, c_narrow);
+    EXPECT_EQ(wide.hessian().to_dense(), narrow.hessian().to_dense());
+    EXPECT_EQ(wide.gradient(), narrow.gradient());
+    EXPECT_EQ(wide.hessian_diagonal(), narrow.hessian_diagonal());
+  }
+}
+
 // retract_and_linearize (the points' step by a back-substitution per chunk, inside the point
 // pass) gives the bits of retract then linearize: H, g, diag(H), the cost and the candidate,
 // squared and Huber loss, 1 and 3 threads; the callback sees every point exactly once.

@@ -53,6 +53,10 @@ struct BalCameraObservation {
   double z[2];
 };
 
+/// The point pass runs on eight lanes where the CPU has AVX-512 and on four elsewhere, with the
+/// same bits; false forces four lanes (for tests that compare the two; not for concurrent use).
+void bal_point_pass_allow_eight_lanes(bool allow);
+
 class BalNormalEquations {
  public:
   /// kernel may be null (squared loss). The problem and the pool must outlive this object.
