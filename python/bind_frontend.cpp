@@ -94,7 +94,8 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T DynamicFilte
 
 const std::vector<const char*> kOptionFields = {
     "max_features", "min_distance_px", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
-    "ransac_threshold_px", "static_camera_flow_px", "baseline_frames", "consistency_checks", "consistency_hits"};
+    "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "baseline_frames",
+    "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -122,9 +123,17 @@ void init_frontend(py::module_& m) {
   field(opt, "ransac_threshold_px", &DynamicFilterOptions::ransac_threshold_px, "RANSAC inlier distance");
   field(opt, "static_camera_flow_px", &DynamicFilterOptions::static_camera_flow_px,
         "median flow below which the camera counts as static");
+  field(opt, "min_trusted_matches", &DynamicFilterOptions::min_trusted_matches,
+        "trusted tracks needed to fit the camera's motion on them alone");
+  field(opt, "refine_essential", &DynamicFilterOptions::refine_essential,
+        "refine E on the bearings by robust least squares (fisheye calibration)");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")
       .def_readwrite("consistency_checks", &ImageFrontendOptions::consistency_checks)
       .def_readwrite("consistency_hits", &ImageFrontendOptions::consistency_hits)
+      .def_readwrite("trusted_model", &ImageFrontendOptions::trusted_model,
+                     "fit the camera's motion on the tracks static in their last test")
+      .def_readwrite("trusted_min_tests", &ImageFrontendOptions::trusted_min_tests,
+                     "tests a track needs before it can be trusted")
       .def("__repr__", [](const py::object& self) { return repr_from_fields(self, "FrontendOptions", kOptionFields); });
 
   py::class_<FrontendFrame>(m, "FrontendFrame",

@@ -19,9 +19,10 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
     throw InputError("--consistency-hits", 0, "consistency_hits",
                      std::to_string(fo.consistency_hits) + " hits of " + std::to_string(fo.consistency_checks) +
                          " checks: must be at most --consistency-checks");
-  if (o.vio.score_min_distance_m > o.vio.score_max_distance_m)
+  if (!(o.vio.score_min_distance_m <= o.vio.score_max_distance_m))  // also NaN
     throw InputError("--score-min-distance", 0, "score_min_distance_m",
-                     "the scored distance range is empty: --score-min-distance above --score-max-distance");
+                     "the scored distance range [" + std::to_string(o.vio.score_min_distance_m) + ", " +
+                         std::to_string(o.vio.score_max_distance_m) + "] m is empty or not a number");
   VisualInertialSimOptions opt;
   opt.seed = o.seed;
   opt.dynamic = parse_dynamic_level(o.dynamic);

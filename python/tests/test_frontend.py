@@ -91,3 +91,13 @@ def test_options_and_bad_input():
         sk.classify_matches(p1, p2)
     with pytest.raises(ValueError):
         sk.classify_matches(p2, p2, threshold_px=float("nan"))
+
+
+def test_trusted_model_and_essential_refinement_options():
+    o = sk.FrontendOptions()
+    assert o.trusted_model is True and o.trusted_min_tests == 1
+    assert o.min_trusted_matches == 16 and o.refine_essential is True
+    o = sk.FrontendOptions(trusted_model=False, trusted_min_tests=2, min_trusted_matches=24, refine_essential=False)
+    f = sk.ImageFrontend(o).options
+    assert (f.trusted_model, f.trusted_min_tests, f.min_trusted_matches, f.refine_essential) == (False, 2, 24, False)
+    assert "trusted_model=False" in repr(o)

@@ -46,6 +46,12 @@ i = j["initialization"]
 assert i["method"] == "visual-inertial initializer" and i["attempts"] >= 1, i
 assert 0 < j["initialized_at_s"] < 10 and math.isfinite(j["ate_rmse"]) and j["ate_rmse"] < 0.3, (j["initialized_at_s"], j["ate_rmse"])
 PY
+# An empty or NaN scored distance range is refused before any frame is rendered (exit 1).
+for range in "--score-min-distance 7 --score-max-distance 3" "--score-max-distance nan"; do
+  # shellcheck disable=SC2086
+  "$slamkit" vio --sim room1 --duration 1 --images --data "$data" $range >"$work/e6.txt" 2>&1
+  [[ $? -eq 1 ]] && grep -q "score_min_distance_m" "$work/e6.txt" || fail "distance range $range: $(cat "$work/e6.txt")"
+done
 # An unknown name, a run too short to initialize, a calibration file without a needed field.
 "$slamkit" vio --sim room9 --data "$data" >"$work/e3.txt" 2>&1
 [[ $? -eq 1 ]] && grep -q "euroc:V1_01" "$work/e3.txt" || fail "unknown sequence: $(cat "$work/e3.txt")"
