@@ -98,6 +98,8 @@ const std::vector<int>& BlockSparseMatrix::row_index() const {
 }
 
 std::ptrdiff_t BlockSparseMatrix::block_offset(int i, int j) const {
+  // The diagonal block comes first in its column (most look-ups: assembly, initialization).
+  if (i == j) return block_value_offset_[block_col_ptr_[j]];
   const int* begin = column_blocks_begin(j);
   const int* end = column_blocks_end(j);
   const int* it = std::lower_bound(begin, end, i);

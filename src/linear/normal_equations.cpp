@@ -104,6 +104,7 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values,
   if (free_vars.empty()) throw InputError("", 0, "", "the problem has no free variable to optimize");
   const int n = static_cast<int>(free_vars.size());
   std::vector<std::pair<int, int>> edges;
+  edges.reserve(slots_.size() * (max_arity_ * (max_arity_ - (max_arity_ > 0 ? 1 : 0)) / 2));
   for (const FactorSlot& s : slots_) {
     const std::size_t k = s.factor->keys().size();
     for (std::size_t a = 0; a < k; ++a)
@@ -147,6 +148,7 @@ NormalEquations::NormalEquations(const FactorGraph& graph, const Values& values,
   var_jacobian_.assign(var_index_.size(), -1);
   std::size_t jac_total = 0;
   std::vector<std::pair<int, int>> pattern;
+  pattern.reserve(edges.size());  // one entry per pair of free variables of a factor
   for (const FactorSlot& s : slots_) {
     const std::size_t k = s.factor->keys().size();
     for (std::size_t a = 0; a < k; ++a) {
