@@ -5,7 +5,8 @@
 //   candidate, no Jacobians), factorize (plain factorize(H): C⁻¹, S formed, factorized; PCG:
 //   its preconditioner), solve plain (PCG only: rhs, CG, back-substitution), factorize with rhs
 //   (the LM's call: the reduced rhs formed alongside S), solve (S⁻¹ or PCG, back-substitution),
-//   quadratic (δᵀHδ), retract.
+//   back-substitute (the points' rows alone), quadratic (δᵀHδ), retract. The "excess" line splits
+//   iteration − bare into its phases, the fused pass beside its isolated parts.
 //   Paired: bare (factorize(H), + one plain solve for PCG) and one accepted LM iteration timed
 //   as a whole (damp, factorize with rhs, reduced solve, back-substitution + retract + the
 //   candidate's linearization in one point pass, predicted reduction) alternate, bare, iteration, bare, ... on the same
@@ -140,6 +141,8 @@ int main(int argc, char** argv) {
       const int pcg_iterations = solver.last_pcg_iterations();
       iso["factorize_with_rhs"] = measure([&] { solver.factorize(ne.hessian(), rhs.data(), shift); }, reps);
       iso["solve"] = measure([&] { solver.solve_factored_rhs(step.data()); }, reps);
+      // The back-substitution alone (all points; the fused pass runs it per sub-chunk).
+      iso["back_substitute"] = measure([&] { solver.back_substitute(0, ne.num_points(), step.data()); }, reps);
       iso["quadratic"] = measure([&] { ne.quadratic(step); }, reps);
       iso["retract"] = measure([&] { ne.retract(x, step.data(), y); }, reps);
       // Paired: bare, iteration, bare, iteration, ... The iteration is the LM loop's (a run of
@@ -194,6 +197,16 @@ int main(int argc, char** argv) {
                   1e3 * ctx["backsub_retract_linearize"].med(), 1e3 * ctx["predicted"].med(),
                   1e3 * median(unexplained), median(ctx["backsub_retract_linearize"].faults),
                   median(ctx["factorize_with_rhs"].faults));
+      // Where the iteration's time beyond bare goes (medians): the factorization with the rhs
+      // against bare, the reduced solve, and the fused pass against its isolated parts.
+      // (bare holds PCG's solve: the reduced system's share is factorize with rhs + solve kept − bare.)
+      std::printf("  %-15s excess over bare %5.2f: reduced system (factorize with rhs + solve kept) - bare %5.2f  "
+                  "fused pass %5.2f (isolated: linearize %5.2f  back-substitute %5.2f  retract %5.2f)  damp + predicted %5.2f\n",
+                  "", 1e3 * (iteration.med() - bare.med()),
+                  1e3 * (ctx["factorize_with_rhs"].med() + ctx["solve_kept"].med() - bare.med()),
+                  1e3 * ctx["backsub_retract_linearize"].med(), 1e3 * lin.med(),
+                  1e3 * iso["back_substitute"].med(), 1e3 * iso["retract"].med(),
+                  1e3 * (ctx["damp"].med() + ctx["predicted"].med()));
       std::printf("  %-15s paired: iteration %7.2f  bare %7.2f  median ratio %.2f (ratio of medians %.2f, range %.2f-%.2f)\n",
                   "", 1e3 * iteration.med(), 1e3 * bare.med(), ratio, iteration.med() / bare.med(),
                   *std::min_element(ratios.begin(), ratios.end()), *std::max_element(ratios.begin(), ratios.end()));
