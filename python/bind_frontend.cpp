@@ -92,10 +92,18 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T DynamicFilte
       [member](ImageFrontendOptions& o, T v) { o.filter.*member = v; }, doc);
 }
 
+template <class T>
+void field(py::class_<ImageFrontendOptions>& c, const char* name, T EpipolarSearchOptions::*member, const char* doc) {
+  c.def_property(
+      name, [member](const ImageFrontendOptions& o) { return o.epipolar_search.*member; },
+      [member](ImageFrontendOptions& o, T v) { o.epipolar_search.*member = v; }, doc);
+}
+
 const std::vector<const char*> kOptionFields = {
     "max_features", "min_distance_px", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
     "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "baseline_frames",
-    "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests"};
+    "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
+    "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -127,6 +135,13 @@ void init_frontend(py::module_& m) {
         "trusted tracks needed to fit the camera's motion on them alone");
   field(opt, "refine_essential", &DynamicFilterOptions::refine_essential,
         "refine E on the bearings by robust least squares (fisheye calibration)");
+  field(opt, "epipolar_search", &EpipolarSearchOptions::enabled,
+        "re-search dynamic-flagged features along their epipolar line before the flag counts");
+  field(opt, "epipolar_search_range_px", &EpipolarSearchOptions::search_half_px,
+        "1-D seeds up to this far along the line (0: the nearest point only)");
+  field(opt, "epipolar_search_ncc_drop", &EpipolarSearchOptions::max_ncc_drop,
+        "re-found iff its patch NCC >= the track's minus this");
+  field(opt, "epipolar_search_min_ncc", &EpipolarSearchOptions::min_ncc, "and its patch NCC >= this");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")
       .def_readwrite("consistency_checks", &ImageFrontendOptions::consistency_checks)
       .def_readwrite("consistency_hits", &ImageFrontendOptions::consistency_hits)

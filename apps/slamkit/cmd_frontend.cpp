@@ -17,6 +17,7 @@
 #include "commands.h"
 #include "slamkit/io/kalibr_calibration.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
+#include "slamkit/vio/feature_epipolar_search.h"
 #include "slamkit/vio/feature_tracker.h"
 #include "slamkit/vio/frontend_io.h"
 
@@ -29,6 +30,7 @@ struct FrontendCliOptions {
   std::string out, calib, mask, json;
   FeatureTrackerOptions tracker;
   DynamicFilterOptions filter;
+  EpipolarSearchOptions search;
   int max_frames = 0;  // 0: all
   bool no_images = false, quiet = false;
 };
@@ -60,10 +62,10 @@ void run_frontend(const FrontendCliOptions& o) {
   const int report_every = std::max(1, total / 20);
   nlohmann::json frames = nlohmann::json::array();
   std::map<std::string, int> status_count;
-  long all_static = 0, all_dynamic = 0, all_unknown = 0;
+  long all_static = 0, all_dynamic = 0, all_unknown = 0, all_refound = 0;
   double sum_ms = 0.0, max_ms = 0.0, sum_M = 0.0, min_M = std::numeric_limits<double>::infinity();
   int classified_frames = 0, too_few_frames = 0;
-  GrayImage gray;
+  GrayImage gray, prev_gray;
   ColorImage color;
   int k = 0;
   for (; (o.max_frames <= 0 || k < o.max_frames) && source.next(&gray, &color); ++k) {
@@ -78,10 +80,22 @@ void run_frontend(const FrontendCliOptions& o) {
                              " but the frames are " + std::to_string(gray.width) + "x" + std::to_string(gray.height));
     }
     const Stopwatch clock;
-    const TrackingResult t = tracker.track(gray);
+    TrackingResult t = tracker.track(gray);
     std::vector<Eigen::Vector2d> prev, cur;
-    t.matches(&prev, &cur);
-    const Classification c = filter.classify(prev, cur);
+    std::vector<std::int64_t> ids;
+    t.matches(&prev, &cur, &ids);
+    Classification c = filter.classify(prev, cur);
+    int refound = 0;
+    if (o.search.enabled && !prev.empty()) {  // dynamic flags re-searched on their epipolar line
+      const EpipolarSearchResult s = search_along_epipolar(prev_gray, gray, prev, &cur, filter, &c, o.search);
+      std::vector<std::int64_t> moved_ids;
+      std::vector<Eigen::Vector2d> moved_uv;
+      for (std::size_t m = 0; m < s.refound.size(); ++m)
+        if (s.refound[m]) moved_ids.push_back(ids[m]), moved_uv.push_back(cur[m]), t.features[m].uv = cur[m];
+      tracker.relocate(moved_ids, moved_uv);
+      refound = s.refound_count;
+    }
+    if (o.search.enabled) prev_gray = gray;
     const double ms = clock.seconds() * 1e3;
     // Flags per feature: the tracked ones come first in t.features, in the order of the matches.
     std::vector<FeatureMotion> flags(t.features.size(), FeatureMotion::kUnknown);
@@ -90,7 +104,7 @@ void run_frontend(const FrontendCliOptions& o) {
     if (has_matches) {
       sum_ms += ms, max_ms = std::max(max_ms, ms);
       ++status_count[to_string(c.status)];
-      all_static += c.n_static, all_dynamic += c.n_dynamic, all_unknown += c.n_unknown;
+      all_static += c.n_static, all_dynamic += c.n_dynamic, all_unknown += c.n_unknown, all_refound += refound;
       if (c.n_static + c.n_dynamic > 0) sum_M += c.static_ratio, min_M = std::min(min_M, c.static_ratio), ++classified_frames;
       if (c.status == ClassificationStatus::kTooFewMatches) {
         ++too_few_frames;
@@ -102,7 +116,7 @@ void run_frontend(const FrontendCliOptions& o) {
     frames.push_back({{"index", k}, {"name", source.frame_name(k)}, {"features", t.features.size()},
                       {"tracked", t.tracked}, {"detected", t.detected}, {"lost_klt", t.lost_klt},
                       {"lost_forward_backward", t.lost_forward_backward}, {"lost_border", t.lost_border},
-                      {"lost_appearance", t.lost_appearance},
+                      {"lost_appearance", t.lost_appearance}, {"refound_epipolar", refound},
                       {"static", c.n_static}, {"dynamic", c.n_dynamic}, {"unknown", has_matches ? c.n_unknown : 0},
                       {"static_ratio", c.static_ratio}, {"status", has_matches ? to_string(c.status) : "first_frame"},
                       {"median_flow_px", c.median_flow_px}, {"time_ms", ms}});
@@ -141,13 +155,16 @@ void run_frontend(const FrontendCliOptions& o) {
                   {"max_residual_ratio", o.tracker.max_residual_ratio},
                   {"threshold_px", o.filter.threshold_px},
                   {"ransac_threshold_px", o.filter.ransac_threshold_px},
-                  {"static_camera_flow_px", o.filter.static_camera_flow_px}};
+                  {"static_camera_flow_px", o.filter.static_camera_flow_px},
+                  {"epipolar_search", o.search.enabled}, {"search_range_px", o.search.search_half_px},
+                  {"search_ncc_drop", o.search.max_ncc_drop}, {"search_scan_px", o.search.line_scan_half_px}, {"search_min_ncc", o.search.min_ncc}};
   j["frames"] = k;
   j["static_ratio"] = {{"mean", classified_frames ? sum_M / classified_frames : 1.0},
                        {"min", classified_frames ? min_M : 1.0}};
   j["features_static"] = all_static;
   j["features_dynamic"] = all_dynamic;
   j["features_unknown"] = all_unknown;
+  j["features_refound_epipolar"] = all_refound;
   j["share_dynamic"] = classified ? double(all_dynamic) / classified : 0.0;
   j["frames_too_few_matches"] = too_few_frames;
   j["classification_status"] = status_count;
@@ -209,6 +226,24 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--static-camera-flow", o->filter.static_camera_flow_px,
                   "median flow below which the camera counts as static (px; negative: never)")
       ->capture_default_str();
+  sub->add_option("--epipolar-search", o->search.enabled,
+                  "re-search each dynamic-flagged feature along its epipolar line (KLT from seeds on the line); "
+                  "re-found with a patch as good as its track's: static")->capture_default_str();
+  sub->add_option("--search-range", o->search.search_half_px,
+                  "with --epipolar-search: 1-D seeds up to this far along the line (px; 0: the nearest point only)")
+      ->check(CLI::Range(0.0, 256.0))->capture_default_str();
+  sub->add_option("--search-scan", o->search.line_scan_half_px,
+                  "with --epipolar-search: 1-D NCC scan along the line up to this far (px; 0: off)")
+      ->check(CLI::Range(0.0, 256.0))->capture_default_str();
+  sub->add_option("--search-step", o->search.seed_step_px, "with --epipolar-search: spacing of the 1-D seeds (px)")
+      ->check(CLI::Range(0.5, 256.0))->capture_default_str();
+  sub->add_option("--search-levels", o->search.klt_pyramid_levels, "with --epipolar-search: KLT pyramid levels")
+      ->check(CLI::Range(0, 8))->capture_default_str();
+  sub->add_option("--search-ncc-drop", o->search.max_ncc_drop,
+                  "with --epipolar-search: re-found iff its patch NCC >= the track's minus this")
+      ->check(CLI::Range(0.0, 2.0))->capture_default_str();
+  sub->add_option("--search-min-ncc", o->search.min_ncc, "with --epipolar-search: and its patch NCC >= this")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
   sub->add_option("--max-frames", o->max_frames, "stop after this many frames (0: all)")->check(CLI::NonNegativeNumber);
   sub->add_flag("--no-images", o->no_images, "do not write the PNG frames");
   sub->add_flag("--quiet", o->quiet, "no progress lines");

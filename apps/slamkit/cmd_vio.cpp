@@ -258,6 +258,17 @@ void add_vio_command(CLI::App& app) {
                   "with --images: fewer trusted matches: fit on all")->check(CLI::NonNegativeNumber)->capture_default_str();
   sub->add_option("--refine-essential", o->image.vio.frontend.filter.refine_essential,
                   "with --images: refine E by robust least squares on the bearings")->capture_default_str();
+  sub->add_option("--epipolar-search", o->image.vio.frontend.epipolar_search.enabled,
+                  "with --images: re-search dynamic-flagged features along their epipolar line before the flag counts")
+      ->capture_default_str();
+  sub->add_option("--epipolar-search-range", o->image.vio.frontend.epipolar_search.search_half_px,
+                  "with --images --epipolar-search: 1-D seeds up to this far along the line (px; 0: nearest point only)")
+      ->check(CLI::Range(0.0, 256.0))->capture_default_str();
+  sub->add_option("--epipolar-search-ncc-drop", o->image.vio.frontend.epipolar_search.max_ncc_drop,
+                  "with --images --epipolar-search: re-found iff its patch NCC >= the track's minus this")
+      ->check(CLI::Range(0.0, 2.0))->capture_default_str();
+  sub->add_option("--epipolar-search-min-ncc", o->image.vio.frontend.epipolar_search.min_ncc,
+                  "with --images --epipolar-search: and its patch NCC >= this")->check(CLI::Range(-1.0, 1.0))->capture_default_str();
   sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
                   "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();

@@ -101,3 +101,17 @@ def test_trusted_model_and_essential_refinement_options():
     f = sk.ImageFrontend(o).options
     assert (f.trusted_model, f.trusted_min_tests, f.min_trusted_matches, f.refine_essential) == (False, 2, 24, False)
     assert "trusted_model=False" in repr(o)
+
+
+def test_epipolar_search_options():
+    o = sk.FrontendOptions()
+    assert o.epipolar_search is False and o.epipolar_search_range_px == 0.0
+    assert o.epipolar_search_ncc_drop == 0.05 and o.epipolar_search_min_ncc == 0.5
+    o = sk.FrontendOptions(epipolar_search=True, epipolar_search_range_px=8.0, epipolar_search_ncc_drop=0.1,
+                           epipolar_search_min_ncc=0.3)
+    f = sk.ImageFrontend(o).options
+    assert (f.epipolar_search, f.epipolar_search_range_px, f.epipolar_search_ncc_drop, f.epipolar_search_min_ncc) == (
+        True, 8.0, 0.1, 0.3)
+    assert "epipolar_search=True" in repr(o)
+    with pytest.raises(ValueError):
+        sk.ImageFrontend(epipolar_search=True, epipolar_search_ncc_drop=-1.0)

@@ -67,6 +67,32 @@ bool DynamicFeatureFilter::undistort_jacobian(const Eigen::Vector2d& uv, Eigen::
   return J->allFinite() && std::abs(J->determinant()) > 1e-9;
 }
 
+bool DynamicFeatureFilter::spherical() const {
+  return options_.spherical && camera_ && camera_->model_name() != "pinhole";
+}
+
+bool DynamicFeatureFilter::distort(const Eigen::Vector2d& virtual_uv, Eigen::Vector2d* out) const {
+  if (!virtual_uv.allFinite()) return false;
+  if (!camera_ || camera_->model_name() == "pinhole") {
+    *out = virtual_uv;
+    return true;
+  }
+  const Eigen::Vector3d b((virtual_uv.x() - cx_) / fx_, (virtual_uv.y() - cy_) / fy_, 1.0);
+  return camera_->project(b, out) && out->allFinite();
+}
+
+double DynamicFeatureFilter::pinhole_distance(const Eigen::Matrix3d& F, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                              const Eigen::Vector2d& raw2) const {
+  const Eigen::Vector3d l = F * a.homogeneous();  // (X, Y, Z)
+  const double norm = std::hypot(l.x(), l.y());
+  double d = norm > 0.0 ? std::abs(b.homogeneous().dot(l)) / norm : std::numeric_limits<double>::infinity();
+  // Back to image pixels: a raw displacement δ moves the virtual pixel by J δ, so the raw
+  // distance to the line is d / |Jᵀ n| with n the line's unit normal (J = I for a pinhole).
+  Eigen::Matrix2d J;
+  if (std::isfinite(d) && undistort_jacobian(raw2, &J)) d /= (J.transpose() * (l.head<2>() / norm)).norm();
+  return d;
+}
+
 Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>& prev,
                                               const std::vector<Eigen::Vector2d>& cur,
                                               const std::vector<char>* trusted) const {
@@ -86,7 +112,7 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   std::vector<cv::Point2d> p1, p2;
   std::vector<double> flow;
   std::vector<Eigen::Vector3d> b1, b2;  // unit bearings (spherical mode)
-  const bool spherical = options_.spherical && camera_ && camera_->model_name() != "pinhole";
+  const bool spherical = this->spherical();
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::Vector2d a, b;
     if (!undistort(prev[i], &a) || !undistort(cur[i], &b)) continue;
@@ -166,14 +192,7 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < 3; ++k) c.F(r, k) = F_refined.at<double>(r, k);
   for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Vector3d a(p1[k].x, p1[k].y, 1.0), b(p2[k].x, p2[k].y, 1.0);
-    const Eigen::Vector3d l = c.F * a;  // (X, Y, Z)
-    const double norm = std::hypot(l.x(), l.y());
-    double d = norm > 0.0 ? std::abs(b.dot(l)) / norm : std::numeric_limits<double>::infinity();
-    // Back to image pixels: a raw displacement δ moves the virtual pixel by J δ, so the raw
-    // distance to the line is d / |Jᵀ n| with n the line's unit normal (J = I for a pinhole).
-    Eigen::Matrix2d J;
-    if (std::isfinite(d) && undistort_jacobian(cur[index[k]], &J)) d /= (J.transpose() * (l.head<2>() / norm)).norm();
+    const double d = pinhole_distance(c.F, Eigen::Vector2d(p1[k].x, p1[k].y), Eigen::Vector2d(p2[k].x, p2[k].y), cur[index[k]]);
     c.distance_px[index[k]] = d;
     c.flags[index[k]] = d > options_.threshold_px ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
   }
@@ -397,6 +416,31 @@ bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>
     c->flags[index[i]] = d > options_.threshold_px ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
   }
   return true;
+}
+
+double DynamicFeatureFilter::epipolar_distance(const Classification& c, const Eigen::Vector2d& raw1,
+                                               const Eigen::Vector2d& raw2) const {
+  Eigen::Vector2d a, b;
+  if (c.status != ClassificationStatus::kEpipolar || !undistort(raw1, &a) || !undistort(raw2, &b))
+    return std::numeric_limits<double>::quiet_NaN();
+  if (!spherical()) return pinhole_distance(c.F, a, b, raw2);
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();  // c.F = K⁻ᵀ E K⁻¹, so E = Kᵀ F K (up to scale)
+  K(0, 0) = fx_, K(1, 1) = fy_, K(0, 2) = cx_, K(1, 2) = cy_;
+  Eigen::Vector3d u, v;
+  if (!camera_->unproject(raw1, &u) || !camera_->unproject(raw2, &v)) return std::numeric_limits<double>::quiet_NaN();
+  return fx_ * epipolar_angle(K.transpose() * c.F * K, u.normalized(), v.normalized());
+}
+
+bool DynamicFeatureFilter::epipolar_point(const Classification& c, const Eigen::Vector2d& raw1, const Eigen::Vector2d& raw2,
+                                          double offset_px, Eigen::Vector2d* raw_on_line) const {
+  Eigen::Vector2d a, b;
+  if (c.status != ClassificationStatus::kEpipolar || !undistort(raw1, &a) || !undistort(raw2, &b)) return false;
+  const Eigen::Vector3d l = c.F * a.homogeneous();
+  const double norm = std::hypot(l.x(), l.y());
+  if (!(norm > 0.0) || !l.allFinite()) return false;
+  const Eigen::Vector2d n = l.head<2>() / norm;              // unit normal of the line
+  const Eigen::Vector2d foot = b - (b.dot(n) + l.z() / norm) * n;  // n·q + l_z/|l_xy| = 0 on the line
+  return distort(foot + offset_px * Eigen::Vector2d(-n.y(), n.x()), raw_on_line);
 }
 
 }  // namespace slamkit

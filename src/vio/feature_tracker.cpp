@@ -101,6 +101,13 @@ void FeatureTracker::drop(const std::vector<std::int64_t>& ids) {
           f.end());
 }
 
+void FeatureTracker::relocate(const std::vector<std::int64_t>& ids, const std::vector<Eigen::Vector2d>& uv) {
+  if (ids.size() != uv.size()) throw std::invalid_argument("feature tracker: relocate needs one position per id");
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    for (TrackedFeature& t : state_->features)
+      if (t.id == ids[k]) t.uv = uv[k];
+}
+
 TrackingResult FeatureTracker::track(const GrayImage& frame) {
   check_image(frame, "the frame");
   State& s = *state_;

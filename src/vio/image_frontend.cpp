@@ -35,6 +35,7 @@ ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const
     throw std::invalid_argument("ImageFrontend: min_patch_ncc_baseline must be <= 1");
   if (options_.consistency_hits < 1 || options_.consistency_hits > options_.consistency_checks)
     throw std::invalid_argument("ImageFrontend: consistency_hits must be in 1..consistency_checks");
+  check_epipolar_search_options(options_.epipolar_search);
 }
 
 FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int hits, bool was_dynamic) {
@@ -54,6 +55,9 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
   const int k = options_.baseline_frames;
   const std::vector<TrackedFeature>& tracked = out.tracking.features;
   out.features.resize(tracked.size());
+  std::vector<Eigen::Vector2d> uv_now(tracked.size());  // current pixels; the re-search may move them
+  for (std::size_t i = 0; i < tracked.size(); ++i) uv_now[i] = tracked[i].uv;
+  bool moved = false;
   for (std::size_t i = 0; i < tracked.size(); ++i) {
     out.features[i].id = tracked[i].id;
     out.features[i].uv = tracked[i].uv;
@@ -75,7 +79,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
       if (tracked[i].age < b) continue;
       const auto it = then.find(tracked[i].id);
       if (it == then.end()) continue;  // cannot happen while ids persist; kept safe
-      p1.push_back(it->second), p2.push_back(tracked[i].uv), index.push_back(i);
+      p1.push_back(it->second), p2.push_back(uv_now[i]), index.push_back(i);
     }
     bool any = false;
     for (std::size_t m = 0; m < index.size() && !any; ++m) any = baseline[index[m]] == b;
@@ -89,8 +93,17 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
                      (h->second.over & 1u) == 0;
       }
     }
-    const Classification c =
-        (b > 1 ? filter_long_ : filter_).classify(p1, p2, options_.trusted_model ? &trusted : nullptr);
+    const DynamicFeatureFilter& filter = b > 1 ? filter_long_ : filter_;
+    Classification c = filter.classify(p1, p2, options_.trusted_model ? &trusted : nullptr);
+    if (options_.epipolar_search.enabled && b <= static_cast<int>(frames_.size())) {
+      std::vector<char> tested(index.size());  // only the features whose flag this test sets
+      for (std::size_t m = 0; m < index.size(); ++m) tested[m] = baseline[index[m]] == b;
+      const EpipolarSearchResult s =
+          search_along_epipolar(frames_[b - 1], frame, p1, &p2, filter, &c, options_.epipolar_search, &tested);
+      for (std::size_t m = 0; m < index.size(); ++m)
+        if (s.refound[m]) uv_now[index[m]] = p2[m], moved = true;
+      out.n_refound_epipolar += s.refound_count;
+    }
     if (b == longest) out.status = c.status;
     for (std::size_t m = 0; m < index.size(); ++m) {
       FrontendFeature& f = out.features[index[m]];
@@ -101,6 +114,16 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
       f.baseline = b;
       f.uv_then = p1[m];
     }
+  }
+  if (moved) {  // re-found on the epipolar line: the track continues from there
+    std::vector<std::int64_t> ids;
+    std::vector<Eigen::Vector2d> uv;
+    for (std::size_t i = 0; i < out.features.size(); ++i)
+      if (uv_now[i] != out.features[i].uv) {
+        out.features[i].uv = out.tracking.features[i].uv = uv_now[i];
+        ids.push_back(out.features[i].id), uv.push_back(uv_now[i]);
+      }
+    tracker_.relocate(ids, uv);
   }
   // Appearance over the tested baseline: reject the tracks whose patch changed (see the header).
   if (options_.min_patch_ncc_baseline > -1.0) {
@@ -154,7 +177,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
   for (const TrackedFeature& f : tracked) now.emplace(f.id, f.uv);
   history_.push_front(std::move(now));
   while (static_cast<int>(history_.size()) > k) history_.pop_back();
-  if (options_.min_patch_ncc_baseline > -1.0) {
+  if (keep_frames()) {
     frames_.push_front(frame);
     while (static_cast<int>(frames_.size()) > k) frames_.pop_back();
   }

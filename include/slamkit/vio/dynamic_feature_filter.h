@@ -93,11 +93,28 @@ class DynamicFeatureFilter {
                           const std::vector<char>* trusted = nullptr) const;
   /// The virtual-pinhole pixel of a raw pixel (step 1); false if it cannot be undistorted.
   bool undistort(const Eigen::Vector2d& uv, Eigen::Vector2d* out) const;
+  /// The raw pixel of a virtual-pinhole pixel (the inverse of undistort); false if the camera
+  /// cannot project it.
+  bool distort(const Eigen::Vector2d& virtual_uv, Eigen::Vector2d* out) const;
+  /// The epipolar distance (px) classify() gives the match raw1 → raw2 under c's model (status
+  /// kEpipolar; in spherical mode the epipolar angle · fx, without the pure-rotation alternative);
+  /// NaN if c has no model or a pixel cannot be undistorted.
+  double epipolar_distance(const Classification& c, const Eigen::Vector2d& raw1, const Eigen::Vector2d& raw2) const;
+  /// The point of raw1's epipolar line l = F p1 (virtual pinhole) nearest raw2's virtual pixel,
+  /// moved by offset_px along the line, as a raw pixel; false if c has no model or a pixel cannot
+  /// be mapped.
+  bool epipolar_point(const Classification& c, const Eigen::Vector2d& raw1, const Eigen::Vector2d& raw2,
+                      double offset_px, Eigen::Vector2d* raw_on_line) const;
   const DynamicFilterOptions& options() const { return options_; }
 
  private:
   /// ∂(virtual pixel)/∂(raw pixel) at uv by central differences; false for a pinhole (J = I).
   bool undistort_jacobian(const Eigen::Vector2d& uv, Eigen::Matrix2d* J) const;
+  /// Step 3's pinhole distance: |b·l| / |l_xy| with l = F a (a, b virtual pixels), mapped to
+  /// image pixels at raw2 through the undistortion's Jacobian.
+  double pinhole_distance(const Eigen::Matrix3d& F, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                          const Eigen::Vector2d& raw2) const;
+  bool spherical() const;
   /// Step 3 on bearings (spherical): fills c's distances, flags, F; false if no model was found.
   /// The model is fitted on the matches with fit[k] != 0.
   bool classify_spherical(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,

@@ -96,6 +96,9 @@ class FeatureTracker {
   TrackingResult track(const GrayImage& frame);
   /// Stops tracking the given ids (e.g. features classified dynamic); their neighbourhoods free up.
   void drop(const std::vector<std::int64_t>& ids);
+  /// Moves tracked features to corrected positions in the current frame (e.g. re-found on their
+  /// epipolar line); ids not tracked are ignored. The next frame tracks them from there.
+  void relocate(const std::vector<std::int64_t>& ids, const std::vector<Eigen::Vector2d>& uv);
   const FeatureTrackerOptions& options() const { return options_; }
 
  private:

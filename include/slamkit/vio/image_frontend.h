@@ -28,6 +28,8 @@
 // Trusted tracks (trusted_model): the camera's motion of each test is fitted on the tracks whose
 // last test was static (DynamicFilterOptions::min_trusted_matches), so that a crowd moving as one,
 // whose tracks are new or flagged, cannot take over the RANSAC.
+// Epipolar re-search (epipolar_search): each test's dynamic flags are re-searched along the
+// epipolar line in that test's frame pair; a re-found feature is static and its track moves.
 // M = static / (static + dynamic) over the features of the frame.
 #pragma once
 
@@ -42,6 +44,7 @@
 
 #include "slamkit/geometry/camera_models.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
+#include "slamkit/vio/feature_epipolar_search.h"
 #include "slamkit/vio/feature_tracker.h"
 
 namespace slamkit {
@@ -66,6 +69,10 @@ struct ImageFrontendOptions {
   /// those with at least trusted_min_tests epipolar tests, the last of them static.
   bool trusted_model = true;
   int trusted_min_tests = 1;
+  /// Before a test's dynamic flag counts, the feature is re-searched along its epipolar line in
+  /// the frame pair of that test (feature_epipolar_search.h); re-found: static, and the track moves
+  /// to the re-found pixel.
+  EpipolarSearchOptions epipolar_search;
 };
 
 struct FrontendFeature {
@@ -88,6 +95,7 @@ struct FrontendFrameResult {
   double static_ratio = 1.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0;
   int n_rejected_appearance = 0;  ///< tracks rejected by the appearance check over the baseline
+  int n_refound_epipolar = 0;     ///< dynamic flags withdrawn by the epipolar re-search
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
   double tracking_ms = 0.0, classification_ms = 0.0;  ///< wall clock
@@ -110,7 +118,8 @@ class ImageFrontend {
   DynamicFeatureFilter filter_long_;  ///< baseline k (threshold · k^e)
   /// history_[j]: positions of the features tracked in frame t − 1 − j (j < k).
   std::deque<std::unordered_map<std::int64_t, Eigen::Vector2d>> history_;
-  std::deque<GrayImage> frames_;  ///< frames_[j]: frame t − 1 − j (only with the appearance check)
+  std::deque<GrayImage> frames_;  ///< frames_[j]: frame t − 1 − j (only with the appearance check or re-search)
+  bool keep_frames() const { return options_.min_patch_ncc_baseline > -1.0 || options_.epipolar_search.enabled; }
   std::unordered_set<std::int64_t> flagged_dynamic_;
   /// Per live track: bit i = the test i frames ago exceeded the threshold; and the number of tests.
   struct TestHistory {
