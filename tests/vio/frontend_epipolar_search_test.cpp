@@ -6,6 +6,7 @@
 // epipolar_distance against classify() on a fisheye camera.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -106,14 +107,14 @@ TEST(EpipolarSearch, OneDimensionalSeedsFindAMatchAlongTheLine) {
   EpipolarSearchOptions o;
   o.enabled = true, o.seed_median_flow = false, o.klt_pyramid_levels = 0, o.klt_window = 11;
   auto run = [&](double range, std::vector<Eigen::Vector2d>* cur) {
-    *cur = {{75 + 12, 63}, {kMoverX + kShift, kMoverY + kMoverDown}};
+    *cur = {{75 + 24, 63}, {kMoverX + kShift, kMoverY + kMoverDown}};
     Classification c = translation_along_x({FeatureMotion::kDynamic, FeatureMotion::kDynamic});
     o.search_half_px = range;
     return search_along_epipolar(a, b, prev, cur, filter, &c, o);
   };
   std::vector<Eigen::Vector2d> cur;
   EXPECT_FALSE(run(0.0, &cur).refound[0]);
-  const EpipolarSearchResult r = run(16.0, &cur);
+  const EpipolarSearchResult r = run(28.0, &cur);
   ASSERT_TRUE(r.refound[0]);
   EXPECT_NEAR(cur[0].x(), 75.0, 0.05);
   EXPECT_NEAR(cur[0].y(), 60.0, 0.05);
