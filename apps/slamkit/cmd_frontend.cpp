@@ -15,6 +15,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "vio_images.h"
 #include "slamkit/io/kalibr_calibration.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
 #include "slamkit/vio/feature_epipolar_search.h"
@@ -42,6 +43,7 @@ std::string progress_bar(int done, int total) {
 
 void run_frontend(const FrontendCliOptions& o) {
   check_outputs({{&o.json, "--json"}});
+  check_epipolar_search_input(o.search, "--search-range");
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
   if (!std::filesystem::is_directory(o.out)) throw InputError(o.out, 0, "--out", "cannot create the output directory");

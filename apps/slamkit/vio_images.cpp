@@ -2,6 +2,7 @@
 #include "vio_images.h"
 
 #include <cstdio>
+#include <stdexcept>
 #include <fstream>
 #include <string>
 
@@ -11,6 +12,14 @@
 
 namespace slamkit::cli {
 
+void check_epipolar_search_input(const EpipolarSearchOptions& o, const char* option) {
+  try {
+    check_epipolar_search_options(o);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(option, 0, "epipolar_search", e.what());
+  }
+}
+
 VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log) {
   if (!is_visual_inertial_sequence_name(o.sim))
     throw InputError(o.sim, 0, "sim", "--images needs a named sequence (room1..room4, euroc:...): the renderer rebuilds its scene");
@@ -19,6 +28,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
     throw InputError("--consistency-hits", 0, "consistency_hits",
                      std::to_string(fo.consistency_hits) + " hits of " + std::to_string(fo.consistency_checks) +
                          " checks: must be at most --consistency-checks");
+  check_epipolar_search_input(fo.epipolar_search, "--epipolar-search-range");
   if (!(o.vio.score_min_distance_m <= o.vio.score_max_distance_m))  // also NaN
     throw InputError("--score-min-distance", 0, "score_min_distance_m",
                      "the scored distance range [" + std::to_string(o.vio.score_min_distance_m) + ", " +

@@ -26,6 +26,10 @@ struct VioImageCliOptions {
 };
 
 /// The tracked run; *frontend receives the JSON object (stored under "frontend" by the caller).
+/// The epipolar re-search options as the CLI got them: InputError naming `option` (before any
+/// work) where check_epipolar_search_options would throw later.
+void check_epipolar_search_input(const EpipolarSearchOptions& o, const char* option);
+
 VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log);
 
 }  // namespace slamkit::cli

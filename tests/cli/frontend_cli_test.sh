@@ -56,6 +56,10 @@ assert on["share_dynamic"] <= 0.05, on["share_dynamic"]
 PY
 "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe4" --epipolar-search maybe \
   >"$work/e0.txt" 2>&1 && fail "--epipolar-search maybe accepted"
+"$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe5" --epipolar-search on \
+  --search-range nan >"$work/e0b.txt" 2>&1
+[[ $? -eq 1 ]] || fail "--search-range nan did not exit 1 (input error): $(cat "$work/e0b.txt")"
+grep -q "first frame" "$work/e0b.txt" && fail "--search-range nan was found only after the first frame"
 
 # 2. vtest.avi (static camera, people walking): its first 25 frames, PNGs and the AVI.
 if [[ -f "$video_dir/vtest.avi" ]]; then
