@@ -10,11 +10,13 @@
 #include <ctime>
 #include <cstdio>
 #include <fstream>
-#include <malloc.h>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "bench_data.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
@@ -105,10 +107,12 @@ int main(int argc, char** argv) {
       --argc;
       break;
     }
+#if defined(__GLIBC__)
   if (!glibc_heap) {
     mallopt(M_MMAP_THRESHOLD, 4 << 20);
     mallopt(M_TRIM_THRESHOLD, 64 << 20);
   }
+#endif
   std::string repeat_s = "5", threads_s = "0", only,
               out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/pose_graph_profile.json";
   if (!bench::parse_options(argc, argv, "[--repeat 5] [--only SUBSTRING] [--threads N] [--out FILE] [--glibc-heap]",
