@@ -4,7 +4,7 @@
 // Also getrusage counters of each optimize_pose_graph call (minor page faults, system / user
 // CPU ms, context switches): median, min and the first (cold, as in the CLI) run.
 //   pose_graph_profile [--repeat 5] [--only SUBSTRING] [--threads N]
-//                      [--out bench/results/pose_graph_profile.json]
+//                      [--out bench/results/pose_graph_profile.json] [--glibc-heap]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -14,6 +14,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "bench_data.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
@@ -94,9 +97,25 @@ std::vector<std::pair<std::string, double>> phases_ms(double load_s, const PoseG
 
 int main(int argc, char** argv) {
   reexec_with_better_blas_core(argv);  // same BLAS kernels as the CLI uses
+  // The CLI's heap policy (apps/slamkit/main.cpp): memory freed by loading stays in the heap for
+  // the optimizer, so run 1 here faults the pages the CLI's run faults. --glibc-heap keeps glibc's.
+  bool glibc_heap = false;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--glibc-heap") {
+      glibc_heap = true;
+      for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
+      --argc;
+      break;
+    }
+#if defined(__GLIBC__)
+  if (!glibc_heap) {
+    mallopt(M_MMAP_THRESHOLD, 4 << 20);
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  }
+#endif
   std::string repeat_s = "5", threads_s = "0", only,
               out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/pose_graph_profile.json";
-  if (!bench::parse_options(argc, argv, "[--repeat 5] [--only SUBSTRING] [--threads N] [--out FILE]",
+  if (!bench::parse_options(argc, argv, "[--repeat 5] [--only SUBSTRING] [--threads N] [--out FILE] [--glibc-heap]",
                             {{"--repeat", &repeat_s}, {"--only", &only}, {"--threads", &threads_s}, {"--out", &out}}))
     return 2;
   const int repeat = std::max(1, std::stoi(repeat_s));
