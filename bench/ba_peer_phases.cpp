@@ -14,7 +14,10 @@
 //   the medians of each. Inside the iteration each phase is timed too ("in context"): the
 //   phases cover the iteration ("unexplained" = iteration − Σ timed phases, the time between
 //   the probes, ≈ 0), so an excess shows up in a named phase, and in-context against isolated
-//   medians shows what the iteration's memory state costs each phase. Every phase also reports
+//   medians shows what the iteration's memory state costs each phase. The untimed-in-the-pair
+//   relinearization at x after each pair is timed apart ("relinearize"): fused pass − it, per
+//   pair, is the back-substitution's and retraction's share of the fused pass at that moment.
+//   Every phase also reports
 //   its minor page faults (getrusage, this thread).
 // Then (unless --lm 0) full LM runs, 1 thread: schur-dense, schur-cholesky, and schur-pcg under
 // the old PCG stopping rule (relative residual 0.1 only) and the current one (Nash-Sofer 0.1):
@@ -150,7 +153,8 @@ int main(int argc, char** argv) {
       // points that back-substitutes, retracts and linearizes the candidate (its cost comes with
       // it), the predicted reduction (−gᵀδ + λδᵀDδ + x_kᵀr_k, no pass over H); each phase timed
       // in context. After each pair H is re-linearized at x, untimed.
-      Phase bare, iteration;
+      Phase bare, iteration, relin;
+      std::vector<double> fused_minus_lin;
       std::map<std::string, Phase> ctx;
       std::vector<double> ratios, unexplained;
       for (int r = 0; r < reps; ++r) {
@@ -183,7 +187,13 @@ int main(int argc, char** argv) {
         }
         unexplained.push_back((t[5].cpu_s - t[0].cpu_s) - sum);
         ratios.push_back((t[5].cpu_s - t[0].cpu_s) / (b1.cpu_s - b0.cpu_s));
-        ne.linearize(x);  // untimed: H, g back at x for the next pair
+        // H, g back at x for the next pair: not part of the pair, but timed as "relinearize": a plain
+        // linearization in the same memory state as the fused pass just before it, so
+        // fused − relinearize (per pair) is what the back-substitution and retraction add to it.
+        const Probe l0 = probe();
+        ne.linearize(x);
+        relin.add(l0, probe());
+        fused_minus_lin.push_back((t[4].cpu_s - t[3].cpu_s) - relin.s.back());
       }
       ne.clear_damping();
       const double ratio = median(ratios);
@@ -207,6 +217,9 @@ int main(int argc, char** argv) {
                   1e3 * ctx["backsub_retract_linearize"].med(), 1e3 * lin.med(),
                   1e3 * iso["back_substitute"].med(), 1e3 * iso["retract"].med(),
                   1e3 * (ctx["damp"].med() + ctx["predicted"].med()));
+      std::printf("  %-15s fused pass against a plain linearization right after it: relinearize %5.2f  "
+                  "fused - relinearize (median of pairs) %5.2f\n",
+                  "", 1e3 * relin.med(), 1e3 * median(fused_minus_lin));
       std::printf("  %-15s paired: iteration %7.2f  bare %7.2f  median ratio %.2f (ratio of medians %.2f, range %.2f-%.2f)\n",
                   "", 1e3 * iteration.med(), 1e3 * bare.med(), ratio, iteration.med() / bare.med(),
                   *std::min_element(ratios.begin(), ratios.end()), *std::max_element(ratios.begin(), ratios.end()));
@@ -223,7 +236,8 @@ int main(int argc, char** argv) {
                          {"observations", p.num_observations()},
                          {"linearize_ns_per_obs", 1e9 * lin.med() / p.num_observations()},
                          {"isolated", isolated}, {"in_context", in_context},
-                         {"unexplained_median_s", median(unexplained)},
+                         {"unexplained_median_s", median(unexplained)}, {"relinearize", relin.json()},
+                         {"fused_minus_relinearize_median_s", median(fused_minus_lin)},
                          {"iteration", iteration.json()}, {"bare", bare.json()}, {"ratio_median_of_pairs", ratio},
                          {"ratio_of_medians", iteration.med() / bare.med()},
                          {"ratio_of_minima", iteration.min() / bare.min()}, {"ratios", ratios},

@@ -110,6 +110,7 @@ struct SchurComplementSolver::Impl {
   template <int ED>
   bool invert_c(std::size_t begin, std::size_t end, const double* shift, const double* be_packed) {
     using M = Eigen::Matrix<double, ED, ED>;
+    if constexpr (ED == 3) return invert_c3(begin, end, shift, be_packed);
     for (std::size_t e = begin; e < end; ++e) {
       const int d = ed[e];
       M C = CMap<ED, ED>(H() + e_diag_off[e], d, d, Eigen::OuterStride<>(e_diag_ld[e]));
@@ -123,6 +124,48 @@ struct SchurComplementSolver::Impl {
       if (be_packed)
         MVec<ED>(cinv.data() + cinv_off[e] + d * d, d).noalias() =
             out * CVec<ED>(be_packed + static_cast<std::ptrdiff_t>(e) * d, d);
+    }
+    return true;
+  }
+
+  // invert_c for 3×3 blocks in closed form (the generic LLT + triangular solve of Eigen costs
+  // several times more): C = L D Lᵀ from the lower triangle (L unit lower: l10, l20, l21),
+  // pivots d0, d1, d2 > 0 (else not positive definite, NaN included), then
+  // C⁻¹ = L⁻ᵀ D⁻¹ L⁻¹ with L⁻¹ unit lower: m10 = −l10, m21 = −l21, m20 = l10 l21 − l20.
+  bool invert_c3(std::size_t begin, std::size_t end, const double* shift, const double* be_packed) {
+    for (std::size_t e = begin; e < end; ++e) {
+      const double* C = H() + e_diag_off[e];
+      const int ld = e_diag_ld[e];
+      double c00 = C[0], c10 = C[1], c20 = C[2], c11 = C[ld + 1], c21 = C[ld + 2], c22 = C[2 * ld + 2];
+      if (shift) {
+        const double* sh = shift + e_start[e];
+        c00 += sh[0], c11 += sh[1], c22 += sh[2];
+      }
+      const double d0 = c00;
+      if (!(d0 > 0.0)) return false;
+      const double l10 = c10 / d0, l20 = c20 / d0;
+      const double d1 = c11 - l10 * c10;
+      if (!(d1 > 0.0)) return false;
+      const double t21 = c21 - l20 * c10, l21 = t21 / d1;
+      const double d2 = c22 - l20 * c20 - l21 * t21;
+      if (!(d2 > 0.0)) return false;
+      const double i0 = 1.0 / d0, i1 = 1.0 / d1, i2 = 1.0 / d2;
+      const double m10 = -l10, m21 = -l21, m20 = l10 * l21 - l20;
+      const double a2 = m20 * i2, b2 = m21 * i2;
+      const double v00 = i0 + m10 * m10 * i1 + m20 * a2, v10 = m10 * i1 + m20 * b2, v20 = a2;
+      const double v11 = i1 + m21 * b2, v21 = b2, v22 = i2;
+      double* out = cinv.data() + cinv_off[e];
+      out[0] = v00, out[1] = v10, out[2] = v20;
+      out[3] = v10, out[4] = v11, out[5] = v21;
+      out[6] = v20, out[7] = v21, out[8] = v22;
+      for (int a = 0; a < 9; ++a)
+        if (!std::isfinite(out[a])) return false;
+      if (be_packed) {
+        const double* b = be_packed + static_cast<std::ptrdiff_t>(e) * 3;
+        out[9] = v00 * b[0] + v10 * b[1] + v20 * b[2];
+        out[10] = v10 * b[0] + v11 * b[1] + v21 * b[2];
+        out[11] = v20 * b[0] + v21 * b[1] + v22 * b[2];
+      }
     }
     return true;
   }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <cmath>
 #include <cstring>
 #include <random>
 
@@ -256,6 +257,17 @@ TEST(SchurComplement, RejectsStructuresItCannotEliminate) {
   F.block(1, 1) = Eigen::MatrixXd::Identity(9, 9);
   SchurComplementSolver solver({1, 0}, pool);
   solver.analyze(F);
+  EXPECT_FALSE(solver.factorize(F));
+  // Indefinite (the third pivot of the 3×3 LDLᵀ negative) and NaN eliminated blocks: rejected too.
+  Eigen::Matrix3d C;
+  C << 4, 2, 2, 2, 2, 2, 2, 2, 1;  // d0 = 4, d1 = 1, d2 = -1
+  F.block(0, 0) = C;
+  EXPECT_FALSE(solver.factorize(F));
+  C(2, 2) = 3;  // d2 = 1: positive definite, accepted
+  F.block(0, 0) = C;
+  EXPECT_TRUE(solver.factorize(F));
+  C(1, 1) = std::nan("");
+  F.block(0, 0) = C;
   EXPECT_FALSE(solver.factorize(F));
 }
 
