@@ -40,6 +40,7 @@ struct VioCliOptions {
   int threads = 1;         // window solver threads (results identical for any count)
   bool quiet = false;
   std::string dvi = "off", alpha = "M^2", theta = "0.5", solver = "dense", static_ratio = "all";
+  double outlier_px = 0.0;  // post-solve outlier rejection (VINS-Fusion); 0: off
   bool images = false;  // issue 13: the front end on rendered images (vio_images.h)
   VioImageCliOptions image;
 };
@@ -76,6 +77,7 @@ void run_vio(const VioCliOptions& o) {
   parse_dvi_alpha(o.alpha, &so.dvi);  // DVI weighting (issue 13): used with --dvi on
   parse_dvi_theta(o.theta, &so.dvi);
   so.dvi.ratio_of_classified = o.static_ratio == "classified";
+  so.outlier_reprojection_px = o.outlier_px;
   std::ostream& log = o.json == "-" ? std::cerr : std::cout;
   log << "vio: " << sim.source << ", " << sim.frames.size() << " frames, " << sim.imu.size() << " IMU samples, camera "
       << sim.camera->model_name() << ", window " << so.window_size << " keyframes\n";
@@ -118,8 +120,8 @@ void run_vio(const VioCliOptions& o) {
   }
   const double nf = std::max<std::size_t>(1, r.frames.size());
   double m_sum = 0.0, m_min = 1.0;
-  std::size_t dropped = 0, iterations = 0;
-  for (const FrameEstimate& e : r.frames) iterations += e.iterations;
+  std::size_t dropped = 0, iterations = 0, outliers = 0;
+  for (const FrameEstimate& e : r.frames) iterations += e.iterations, outliers += e.outliers_rejected;
   for (const FrameEstimate& e : r.frames) m_sum += e.static_ratio, m_min = std::min(m_min, e.static_ratio), dropped += e.visual_dropped;
   j["slamkit_version"] = SLAMKIT_VERSION;
   j["vio"] = {{"source", sim.source}, {"seed", sim.seed}, {"dynamic", to_string(sim.dynamic)},
@@ -142,6 +144,7 @@ void run_vio(const VioCliOptions& o) {
   j["dvi"] = {{"enabled", so.dvi.enabled}, {"alpha", o.alpha}, {"theta", o.theta}, {"static_ratio", o.static_ratio}};
   j["static_ratio"] = {{"mean", m_sum / nf}, {"min", m_min}};
   j["visual_frames_dropped"] = dropped;
+  j["outlier_rejection"] = {{"reprojection_px", so.outlier_reprojection_px}, {"features_rejected", outliers}};
   // M per frame (front-end flags, either mode) and its stretches below θ (the fixed θ).
   std::vector<double> m_frames;
   std::size_t below = 0, run = 0, longest = 0, stretches = 0;
@@ -222,6 +225,9 @@ void add_vio_command(CLI::App& app) {
   sub->add_option("--static-ratio", o->static_ratio,
                   "DVI: M = static / all features of a frame, or static / classified (new, untested tracks left out)")
       ->check(CLI::IsMember({"all", "classified"}))->capture_default_str();
+  sub->add_option("--outlier-px", o->outlier_px,
+                  "after each window solve remove features whose mean reprojection error exceeds this [px] (0: off)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
   sub->add_option("--solver", o->solver, "window solver: dense (vio/dense_window_solver.h) or generic (the Optimizer)")
       ->check(CLI::IsMember({"dense", "generic"}))->capture_default_str();
   sub->add_flag("--images", o->images, "render the frames and run the DVI front end on their pixels (docs/frontend.md)");
@@ -238,6 +244,9 @@ void add_vio_command(CLI::App& app) {
                   "with --images: dynamic iff at least H of them exceed the threshold")->check(CLI::Range(1, 16))->capture_default_str();
   sub->add_option("--min-patch-ncc", o->image.vio.frontend.tracker.min_patch_ncc,
                   "with --images: lose tracks whose patch NCC with the previous frame is below this (-1: off)")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--min-patch-ncc-first", o->image.vio.frontend.min_patch_ncc_first,
+                  "with --images: reject tracks whose patch NCC against their first frame is below this (-1: off)")
       ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
   sub->add_option("--min-patch-ncc-baseline", o->image.vio.frontend.min_patch_ncc_baseline,
                   "with --images: reject tested tracks whose patch NCC over the baseline is below this (-1: off)")

@@ -31,6 +31,7 @@ ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const
     throw std::invalid_argument("ImageFrontend: baseline_threshold_exponent must be in [0, 1]");
   if (options_.consistency_checks < 1 || options_.consistency_checks > 16)
     throw std::invalid_argument("ImageFrontend: consistency_checks must be in 1..16");
+  if (!(options_.min_patch_ncc_first <= 1.0)) throw std::invalid_argument("ImageFrontend: min_patch_ncc_first must be <= 1");
   if (!(options_.min_patch_ncc_baseline <= 1.0))
     throw std::invalid_argument("ImageFrontend: min_patch_ncc_baseline must be <= 1");
   if (options_.consistency_hits < 1 || options_.consistency_hits > options_.consistency_checks)
@@ -142,6 +143,38 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
         if (keep[i]) out.features[w] = out.features[i], out.tracking.features[w] = out.tracking.features[i], ++w;
       out.features.resize(w), out.tracking.features.resize(w);
       out.n_rejected_appearance = static_cast<int>(rejected.size());
+    }
+  }
+  // Appearance against the first frame (see the header): crop the patch of a new track, compare later.
+  if (options_.min_patch_ncc_first > -1.0) {
+    const int h = options_.tracker.patch_half_px, side = 2 * h + 4;
+    std::unordered_map<std::int64_t, FirstPatch> alive;
+    std::vector<std::int64_t> rejected;
+    std::vector<char> keep(out.features.size(), 1);
+    for (std::size_t i = 0; i < out.features.size(); ++i) {
+      const FrontendFeature& f = out.features[i];
+      auto it = first_patch_.find(f.id);
+      if (it == first_patch_.end()) {  // new: the crop's origin floor(uv) − h − 1 keeps the bilinear patch inside
+        const int x0 = static_cast<int>(std::floor(f.uv.x())) - h - 1, y0 = static_cast<int>(std::floor(f.uv.y())) - h - 1;
+        if (!f.uv.allFinite() || x0 < 0 || y0 < 0 || x0 + side > frame.width || y0 + side > frame.height) continue;
+        FirstPatch p{GrayImage(side, side), f.uv - Eigen::Vector2d(x0, y0)};
+        for (int y = 0; y < side; ++y)
+          for (int x = 0; x < side; ++x) p.crop.at(x, y) = frame.at(x0 + x, y0 + y);
+        alive.emplace(f.id, std::move(p));
+        continue;
+      }
+      const double ncc = patch_ncc(it->second.crop, it->second.centre, frame, f.uv, h);
+      if (ncc < options_.min_patch_ncc_first) keep[i] = 0, rejected.push_back(f.id);  // NaN: kept
+      else alive.emplace(f.id, std::move(it->second));
+    }
+    first_patch_.swap(alive);
+    if (!rejected.empty()) {
+      tracker_.drop(rejected);
+      std::size_t w = 0;
+      for (std::size_t i = 0; i < out.features.size(); ++i)
+        if (keep[i]) out.features[w] = out.features[i], out.tracking.features[w] = out.tracking.features[i], ++w;
+      out.features.resize(w), out.tracking.features.resize(w);
+      out.n_rejected_first_patch = static_cast<int>(rejected.size());
     }
   }
   // Consistency over the track's last tests, then sticky flags; bookkeeping of the current ids only.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "slamkit/core/error.h"
@@ -95,6 +96,39 @@ bool SlidingWindowEstimator::try_triangulate(Feature& f) const {
   f.inv_depth = 1.0 / best_depth;
   f.triangulated = true;
   return true;
+}
+
+double SlidingWindowEstimator::mean_reprojection_error_px(const Feature& f) const {
+  const Keyframe* a = keyframe(f.anchor);
+  if (!a || !(f.inv_depth > 0.0)) return std::nan("");
+  // P_w = R_a (T_ic (b / ρ)) + p_a, seen from keyframe k: P_c = (T_wk T_ic)⁻¹ P_w.
+  const Eigen::Vector3d P_w = a->state.R.act(T_imu_cam_.act(f.bearing / f.inv_depth)) + a->state.p;
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& [kid, px] : f.obs) {
+    const Keyframe* k = keyframe(kid);
+    if (!k) continue;
+    Eigen::Vector2d uv;
+    const Eigen::Vector3d P_c = (k->state.pose() * T_imu_cam_).inverse().act(P_w);
+    if (!camera_->project(P_c, &uv)) return std::numeric_limits<double>::infinity();  // behind / outside
+    sum += (uv - px).norm(), ++n;
+  }
+  return n > 0 ? sum / n : std::nan("");
+}
+
+int SlidingWindowEstimator::reject_outliers() {
+  int removed = 0;
+  for (auto it = features_.begin(); it != features_.end();) {
+    const Feature& f = it->second;
+    const double e = f.triangulated ? mean_reprojection_error_px(f) : std::nan("");
+    if (e > options_.outlier_reprojection_px) {  // NaN (untriangulated, no observation): kept
+      it = features_.erase(it), ++removed;
+    } else {
+      ++it;
+    }
+  }
+  outliers_rejected_ += removed;
+  return removed;
 }
 
 void SlidingWindowEstimator::add_keyframe(const CameraFrame& frame, const ImuState& predicted, double visual_weight) {
@@ -293,6 +327,7 @@ FrameEstimate SlidingWindowEstimator::add_frame(const CameraFrame& frame) {
   add_keyframe(*in, predicted, out.visual_weight);
   auto t0 = std::chrono::steady_clock::now();
   out.iterations = solve();
+  if (options_.outlier_reprojection_px > 0.0) out.outliers_rejected = reject_outliers();
   out.solve_ms = ms_since(t0);
   if (static_cast<int>(keyframes_.size()) > options_.window_size) {
     t0 = std::chrono::steady_clock::now();

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <random>
+#include <set>
 
 #include "slamkit/core/error.h"
 #include "slamkit/vio/image_io.h"
@@ -144,6 +146,62 @@ TEST(ImageFrontend, ConsistencyCutsFalseAlarms) {
   EXPECT_LT(fp_rate(b), 0.9 * fp_rate(a));
   EXPECT_GT(b.precision(), a.precision());
   EXPECT_GT(b.recall(), 0.7 * a.recall());
+}
+
+// A smooth random texture (box-blurred noise) for the appearance test below.
+GrayImage blurred_noise(int size, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> u(0, 255);
+  std::vector<double> raw(std::size_t(size) * size);
+  for (double& v : raw) v = u(rng);
+  GrayImage g(size, size);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      double s = 0.0;
+      int n = 0;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx)
+          if (x + dx >= 0 && x + dx < size && y + dy >= 0 && y + dy < size) s += raw[std::size_t(y + dy) * size + x + dx], ++n;
+      g.at(x, y) = static_cast<std::uint8_t>(std::lround(s / n));
+    }
+  return g;
+}
+
+// Appearance against the first frame (min_patch_ncc_first): texture A fades into texture B over
+// 20 frames at a standing camera; the tracks stay put (nothing moves), but their patches become B's,
+// as a track dragged from the background onto a walker does. With the check the first tracks are
+// rejected once the blend has gone far enough; without it, and on the unchanged A, none is.
+TEST(ImageFrontend, FirstPatchCheckRejectsTracksWhosePatchChanged) {
+  const GrayImage a = blurred_noise(256, 1), b = blurred_noise(256, 2);
+  for (int variant = 0; variant < 3; ++variant) {  // 0: check off, 1: check on, 2: check on, A only
+    ImageFrontendOptions o;
+    o.tracker.max_features = 60;
+    o.tracker.min_distance_px = 20.0;
+    o.min_patch_ncc_first = variant == 0 ? -1.0 : 0.5;
+    ImageFrontend frontend(o, small_fisheye());
+    int rejected = 0, first_rejected_at = -1;
+    std::set<std::int64_t> first_ids;
+    for (int t = 0; t <= 24; ++t) {
+      const double w = variant == 2 ? 0.0 : std::min(1.0, t / 20.0);
+      GrayImage g(256, 256);
+      for (std::size_t i = 0; i < g.pixels.size(); ++i)
+        g.pixels[i] = static_cast<std::uint8_t>(std::lround((1.0 - w) * a.pixels[i] + w * b.pixels[i]));
+      const FrontendFrameResult r = frontend.process(g);
+      if (t == 0)
+        for (const FrontendFeature& f : r.features) first_ids.insert(f.id);
+      rejected += r.n_rejected_first_patch;
+      if (r.n_rejected_first_patch > 0 && first_rejected_at < 0) first_rejected_at = t;
+    }
+    std::printf("variant %d: %zu first tracks, %d rejected (first at frame %d)\n", variant, first_ids.size(), rejected,
+                first_rejected_at);
+    ASSERT_GT(first_ids.size(), 20u);
+    if (variant == 1) {
+      EXPECT_GT(rejected, static_cast<int>(first_ids.size()) / 2);
+      EXPECT_GE(first_rejected_at, 5);  // a slight change of the patch is no reason
+    } else {
+      EXPECT_EQ(rejected, 0);
+    }
+  }
 }
 
 // The distance range of the score (issue 13: objects at 2–6 m): walker_distances is the distance

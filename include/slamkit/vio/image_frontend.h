@@ -65,6 +65,11 @@ struct ImageFrontendOptions {
   /// Appearance check over the tested baseline (see above); ≤ -1 disables it. The patch half size
   /// is tracker.patch_half_px.
   double min_patch_ncc_baseline = -1.0;
+  /// Appearance against the track's first frame: a track whose patch now (about p_t) and at its
+  /// detection correlate below this (zero-mean NCC, half size tracker.patch_half_px) is rejected like
+  /// the check above: a track that slid from the background onto a walker or along its edge has
+  /// changed its patch, however slowly. ≤ -1 disables it (default; docs/vio.md, session 27).
+  double min_patch_ncc_first = -1.0;
   /// Fit the camera's motion on the trusted tracks (DynamicFilterOptions::min_trusted_matches):
   /// those with at least trusted_min_tests epipolar tests, the last of them static.
   bool trusted_model = true;
@@ -95,6 +100,7 @@ struct FrontendFrameResult {
   double static_ratio = 1.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0;
   int n_rejected_appearance = 0;  ///< tracks rejected by the appearance check over the baseline
+  int n_rejected_first_patch = 0;  ///< tracks rejected by the appearance check against their first frame
   int n_refound_epipolar = 0;     ///< dynamic flags withdrawn by the epipolar re-search
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
@@ -128,6 +134,12 @@ class ImageFrontend {
     bool dynamic = false;  ///< the rule's last decision
   };
   std::unordered_map<std::int64_t, TestHistory> tests_;
+  /// min_patch_ncc_first: each live track's patch at its detection (a crop, `centre` = its pixel in it).
+  struct FirstPatch {
+    GrayImage crop;
+    Eigen::Vector2d centre;
+  };
+  std::unordered_map<std::int64_t, FirstPatch> first_patch_;
 };
 
 /// The consistency rule on one track's test history (bit i: test i ago over the threshold): of the

@@ -103,6 +103,12 @@ struct SlidingWindowOptions {
   double prior_rotation_sigma = 1e-3, prior_position_sigma = 1e-3, prior_velocity_sigma = 0.05;
   double prior_gyro_bias_sigma = 5e-3, prior_accel_bias_sigma = 0.05;
   int num_threads = 1;
+  /// Post-solve outlier rejection (VINS-Fusion's outliersRejection, 3 px at f = 460 there): after a
+  /// solve, a feature whose mean reprojection error over its non-anchor observations exceeds this
+  /// [px] is removed from the window; its track re-enters as a new feature at its next keyframe
+  /// (as in VINS-Fusion). Applies in both modes. 0: off (default: measured worse on the rendered
+  /// high-dynamic rooms, docs/vio.md, session 27).
+  double outlier_reprojection_px = 0.0;
 };
 
 struct FrameEstimate {
@@ -116,6 +122,7 @@ struct FrameEstimate {
   double static_ratio = 1.0;   ///< M of the frame (front-end flags; DviOptions::ratio_of_classified)
   double visual_weight = 1.0;  ///< α(M) its visual factors got (0: dropped)
   bool visual_dropped = false; ///< DVI: M < θ, the frame kept no visual factors
+  int outliers_rejected = 0;   ///< features removed after this frame's solve (outlier_reprojection_px)
 };
 
 class SlidingWindowEstimator {
@@ -134,6 +141,7 @@ class SlidingWindowEstimator {
 
   std::size_t num_keyframes() const { return keyframes_.size(); }
   std::size_t num_features() const { return features_.size(); }
+  int outliers_rejected() const { return outliers_rejected_; }  ///< features removed by reject_outliers so far
   const ImuState& latest_keyframe_state() const { return keyframes_.back().state; }
   const SlidingWindowOptions& options() const { return options_; }
 
@@ -156,6 +164,10 @@ class SlidingWindowEstimator {
 
   const Keyframe* keyframe(std::uint64_t id) const;
   bool try_triangulate(Feature& f) const;
+  /// Mean reprojection error [px] of f's non-anchor observations at the current estimates (NaN: none).
+  double mean_reprojection_error_px(const Feature& f) const;
+  /// outlier_reprojection_px: removes the features over it, returns how many.
+  int reject_outliers();
   /// visual_weight 0: the keyframe keeps its pixels (parallax) but no observation.
   void add_keyframe(const CameraFrame& frame, const ImuState& predicted, double visual_weight);
   /// The window as a dense problem: states, features (only_oldest: anchored in the oldest), their
@@ -185,6 +197,7 @@ class SlidingWindowEstimator {
   double last_stamp_ = 0.0;
   int frames_since_keyframe_ = 0;
   std::uint64_t next_keyframe_id_ = 0, next_feature_key_ = 0;
+  int outliers_rejected_ = 0;
 };
 
 }  // namespace slamkit
