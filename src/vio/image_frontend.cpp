@@ -126,6 +126,16 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
       }
     tracker_.relocate(ids, uv);
   }
+  // Drops the rejected tracks from the tracker and out (keep[i] = 0), in order; returns how many.
+  const auto drop_rejected = [&](const std::vector<std::int64_t>& rejected, const std::vector<char>& keep) {
+    if (rejected.empty()) return 0;
+    tracker_.drop(rejected);
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < out.features.size(); ++i)
+      if (keep[i]) out.features[w] = out.features[i], out.tracking.features[w] = out.tracking.features[i], ++w;
+    out.features.resize(w), out.tracking.features.resize(w);
+    return static_cast<int>(rejected.size());
+  };
   // Appearance over the tested baseline: reject the tracks whose patch changed (see the header).
   if (options_.min_patch_ncc_baseline > -1.0) {
     std::vector<std::int64_t> rejected;
@@ -136,14 +146,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
       const double ncc = patch_ncc(frames_[f.baseline - 1], f.uv_then, frame, f.uv, options_.tracker.patch_half_px);
       if (ncc < options_.min_patch_ncc_baseline) keep[i] = 0, rejected.push_back(f.id);  // NaN: kept
     }
-    if (!rejected.empty()) {
-      tracker_.drop(rejected);
-      std::size_t w = 0;
-      for (std::size_t i = 0; i < out.features.size(); ++i)
-        if (keep[i]) out.features[w] = out.features[i], out.tracking.features[w] = out.tracking.features[i], ++w;
-      out.features.resize(w), out.tracking.features.resize(w);
-      out.n_rejected_appearance = static_cast<int>(rejected.size());
-    }
+    out.n_rejected_appearance = drop_rejected(rejected, keep);
   }
   // Appearance against the first frame (see the header): crop the patch of a new track, compare later.
   if (options_.min_patch_ncc_first > -1.0) {
@@ -168,14 +171,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
       else alive.emplace(f.id, std::move(it->second));
     }
     first_patch_.swap(alive);
-    if (!rejected.empty()) {
-      tracker_.drop(rejected);
-      std::size_t w = 0;
-      for (std::size_t i = 0; i < out.features.size(); ++i)
-        if (keep[i]) out.features[w] = out.features[i], out.tracking.features[w] = out.tracking.features[i], ++w;
-      out.features.resize(w), out.tracking.features.resize(w);
-      out.n_rejected_first_patch = static_cast<int>(rejected.size());
-    }
+    out.n_rejected_first_patch = drop_rejected(rejected, keep);
   }
   // Consistency over the track's last tests, then sticky flags; bookkeeping of the current ids only.
   std::unordered_map<std::int64_t, TestHistory> tests;
