@@ -357,7 +357,7 @@ void init_core(py::module_& m) {
           "noise_model",
           // A copy (noise models are small and immutable): it may be given to other factors
           // and outlive this one.
-          [](const Factor& f) { return std::make_shared<NoiseModel>(*f.noise_model()); },
+          [](const Factor& f) { return f.noise_model()->clone(); },
           "The factor's noise model (a copy).")
       .def_property_readonly(
           "robust_kernel",

@@ -1,5 +1,7 @@
 // Bindings of slamkit/factors: the built-in factors, the pose-graph problem builder and
 // optimize_pose_graph with the options and results of `slamkit optimize`.
+#include <cmath>
+
 #include "bind_callbacks.h"
 #include "bind_values.h"
 #include "slamkit/core/pose_graph.h"
@@ -182,9 +184,12 @@ void init_factors(py::module_& m) {
          const py::object& robust, bool loops_only, int threads, int blas_threads, double function_tolerance,
          double gradient_tolerance, double parameter_tolerance, const std::string& linear_solver,
          const std::string& ordering, const std::string& se3_error, const std::string& calibrate,
-         const py::object& callback, bool verbose, bool as_dict) -> py::object {
+         const py::object& callback, bool verbose, bool as_dict, double keep_estimates_chi2_per_dof) -> py::object {
         PoseGraphOptimizerOptions o;
         o.init = parse_init_method(init);
+        if (!(std::isfinite(keep_estimates_chi2_per_dof) && keep_estimates_chi2_per_dof >= 0.0))
+          throw py::value_error("keep_estimates_chi2_per_dof must be finite and non-negative");
+        o.keep_estimates_chi2_per_dof = keep_estimates_chi2_per_dof;
         o.optimizer.algorithm = parse_algorithm(solver);
         o.optimizer.max_iterations = max_iterations;
         o.optimizer.num_threads = threads;
@@ -212,7 +217,7 @@ void init_factors(py::module_& m) {
       py::arg("blas_threads") = 1, py::arg("function_tolerance") = 1e-5, py::arg("gradient_tolerance") = 1e-10,
       py::arg("parameter_tolerance") = 1e-8, py::arg("linear_solver") = "auto", py::arg("ordering") = "auto",
       py::arg("se3_error") = "quaternion", py::arg("calibrate") = "auto", py::arg("callback") = py::none(),
-      py::arg("verbose") = false, py::arg("as_dict") = false,
+      py::arg("verbose") = false, py::arg("as_dict") = false, py::arg("keep_estimates_chi2_per_dof") = 1.0,
       "The whole pipeline of `slamkit optimize` (gauge, ordering, initialization, optimization) with the same "
       "options and defaults; the graph's estimates are replaced by the result. The GIL is released while it "
       "runs. Returns a PoseGraphResult, or with as_dict=True the CLI's --json document as a dict.");

@@ -37,6 +37,7 @@ PoseGraph load(const OptimizeArgs& a, PoseGraphReadReport* report) {
 void run(const CLI::App& cmd, OptimizeArgs a) {
   check_outputs({{&a.output, "--output"}, {&a.json, "--json"}, {&a.trajectory, "--trajectory"}});
   if (!a.config.empty()) read_optimize_config(a.config, a.s, [&cmd](const char* flag) { return cmd.count(flag) > 0; });
+  validate(a.s, "command line");  // flags too: names parse, counts and tolerances in their domain
   if (is_bundle_adjustment_input(a.input, a.s.format)) {  // BAL files, sim:ba (cmd_optimize_bal.cpp)
     BundleAdjustmentCommonArgs b{a.input, a.output, a.json, a.s.robust, a.label, cmd.count("--solver") ? a.s.solver : ""};
     b.max_iterations = a.s.max_iterations, b.threads = a.s.threads, b.blas_threads = a.s.blas_threads, b.quiet = a.quiet;
@@ -52,6 +53,7 @@ void run(const CLI::App& cmd, OptimizeArgs a) {
     throw InputError(a.output, 0, "--output", "cannot tell the output format from the extension (use .g2o, .graph or .txt)");
   PoseGraphOptimizerOptions o;
   o.init = parse_init_method(a.s.init);
+  o.keep_estimates_chi2_per_dof = a.s.keep_estimates_chi2_per_dof;
   o.optimizer.algorithm = parse_algorithm(a.s.solver);
   o.optimizer.max_iterations = a.s.max_iterations;
   o.optimizer.num_threads = a.s.threads;
@@ -128,6 +130,9 @@ void add_optimize_command(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "Write the optimized graph (format from the extension)");
   cmd->add_option("--solver", args->s.solver, "gn | lm | tr-lm | dogleg | hogman")->capture_default_str();
   cmd->add_option("--init", args->s.init, "none | odometry | spanning-tree | linear | chordal | auto | sgd | toro | relax | mlr")
+      ->capture_default_str();
+  cmd->add_option("--keep-estimates-chi2-per-dof", args->s.keep_estimates_chi2_per_dof,
+                  "--init auto starts from the graph's estimates when their chi2 <= this x degrees of freedom (0: never)")
       ->capture_default_str();
   cmd->add_option("--max-iterations", args->s.max_iterations, "Iteration limit")->capture_default_str();
   cmd->add_option("--robust", args->s.robust, "Robust kernel on the edges, KERNEL:delta (huber, cauchy, tukey, "

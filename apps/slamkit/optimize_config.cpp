@@ -35,9 +35,9 @@ int line_of_key(std::string_view text, const std::string& key) {
 }
 
 /// The name-valued settings must parse; counts and tolerances must be in their domain.
-void check_setting(const OptimizeSettings& s, const std::string& key) {
+void check_setting(const OptimizeSettings& s, const std::string& key, const std::string& source = "") {
   auto require = [&](bool ok, const char* what) {
-    if (!ok) throw InputError("", 0, key, what);
+    if (!ok) throw InputError(source, 0, key, what);
   };
   if (key == "solver" && s.solver != "hogman") (void)parse_algorithm(s.solver);
   else if (key == "init") (void)parse_init_method(s.init);
@@ -52,6 +52,8 @@ void check_setting(const OptimizeSettings& s, const std::string& key) {
   else if (key == "function_tolerance") require(std::isfinite(s.function_tolerance) && s.function_tolerance >= 0, "must be finite and non-negative");
   else if (key == "gradient_tolerance") require(std::isfinite(s.gradient_tolerance) && s.gradient_tolerance >= 0, "must be finite and non-negative");
   else if (key == "parameter_tolerance") require(std::isfinite(s.parameter_tolerance) && s.parameter_tolerance >= 0, "must be finite and non-negative");
+  else if (key == "keep_estimates_chi2_per_dof")
+    require(std::isfinite(s.keep_estimates_chi2_per_dof) && s.keep_estimates_chi2_per_dof >= 0, "must be finite and non-negative");
 }
 
 /// Assigns a JSON value to a setting of type T; returns an error text on a type mismatch.
@@ -84,19 +86,14 @@ bool OptimizeSettings::operator==(const OptimizeSettings& o) const {
   auto fields = [](const OptimizeSettings& x) {
     return std::tie(x.solver, x.init, x.robust, x.robust_loop_closures_only, x.max_iterations, x.threads,
                     x.blas_threads, x.function_tolerance, x.gradient_tolerance, x.parameter_tolerance,
-                    x.linear_solver, x.ordering, x.repair_information, x.format, x.calibrate);
+                    x.linear_solver, x.ordering, x.repair_information, x.format, x.calibrate,
+                    x.keep_estimates_chi2_per_dof);
   };
   return fields(*this) == fields(o);
 }
 
 void validate(const OptimizeSettings& s, const std::string& source) {
-  for_each_setting(s, [&](const char* key, const char*, auto&) {
-    try {
-      check_setting(s, key);
-    } catch (const Error& e) {
-      throw InputError(source, 0, key, e.what());
-    }
-  });
+  for_each_setting(s, [&](const char* key, const char*, auto&) { check_setting(s, key, source); });
 }
 
 void parse_optimize_config(std::string_view text, const std::string& source, OptimizeSettings& s,

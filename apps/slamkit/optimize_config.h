@@ -29,6 +29,7 @@ struct OptimizeSettings {
   bool repair_information = false;
   std::string format = "auto";  // auto | g2o | toro | gtsam | bal
   std::string calibrate = "auto";  // auto | none | offset,odometry (calibration_cli.h)
+  double keep_estimates_chi2_per_dof = 1.0;  // init auto: start from estimates this consistent (0: never)
 
   bool operator==(const OptimizeSettings& o) const;
 };
@@ -51,6 +52,7 @@ void for_each_setting(Settings& s, F&& f) {
   f("repair_information", "--repair-information", s.repair_information);
   f("format", "--format", s.format);
   f("calibrate", "--calibrate", s.calibrate);
+  f("keep_estimates_chi2_per_dof", "--keep-estimates-chi2-per-dof", s.keep_estimates_chi2_per_dof);
 }
 
 /// Throws InputError(source, 0, key, ...) if a value is out of its domain (unknown name,

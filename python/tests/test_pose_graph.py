@@ -47,7 +47,7 @@ def test_cli_config_file_keys_are_keywords(tmp_path):
     config = {"solver": "lm", "init": "odometry", "robust": "huber:2", "robust_loop_closures_only": True,
               "max_iterations": 15, "threads": 1, "blas_threads": 1, "function_tolerance": 1e-6,
               "gradient_tolerance": 1e-10, "parameter_tolerance": 1e-8, "linear_solver": "auto", "ordering": "amd",
-              "repair_information": False, "format": "auto"}
+              "repair_information": False, "format": "auto", "keep_estimates_chi2_per_dof": 0.5}
     path = tmp_path / "opts.json"
     path.write_text(json.dumps(config))
     cli_out = tmp_path / "cli.json"
@@ -74,6 +74,28 @@ def test_optimize_options_and_errors():
             sk.optimize_pose_graph(g.copy(), **bad)
     with pytest.raises(sk.InputError):
         sk.optimize_pose_graph(g.copy(), init="chordal")  # 3D method on a 2D graph
+    for bad in (-1.0, float("nan")):
+        with pytest.raises(ValueError):
+            sk.optimize_pose_graph(g.copy(), keep_estimates_chi2_per_dof=bad)
+
+
+def test_auto_init_keeps_estimates_that_fit_the_noise():
+    """init="auto" starts from estimates whose chi2 is below their degrees of freedom (here an
+    optimized graph with its information divided by 4: same minimizer), unless told not to."""
+    g = sk.generate_pose_graph(world="manhattan", num_poses=300, seed=5)
+    first = sk.optimize_pose_graph(g)
+    assert first.init.used == "linear"
+    scaled = sk.PoseGraph()
+    for vid in g.vertex_ids():
+        scaled.add_pose(int(vid), g.vertex(int(vid)).estimate)
+    for i in range(g.num_edges):
+        e = g.edge(i)
+        scaled.add_edge(e.from_id, e.to_id, e.measured, 0.25 * e.information)
+    kept = sk.optimize_pose_graph(scaled.copy())
+    assert kept.init.used == "none" and any("estimates fit" in n for n in kept.notes)
+    assert kept.final_chi2 == pytest.approx(0.25 * first.final_chi2, rel=1e-9)
+    forced = sk.optimize_pose_graph(scaled.copy(), keep_estimates_chi2_per_dof=0.0)
+    assert forced.init.used == "linear" and forced.final_chi2 == pytest.approx(kept.final_chi2, rel=1e-9)
 
 
 def test_generators_and_specs():

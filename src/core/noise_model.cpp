@@ -5,13 +5,41 @@
 #include <cmath>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "slamkit/core/error.h"
 
 namespace slamkit {
 
-std::shared_ptr<const NoiseModel> NoiseModel::unit(int dim) {
-  return std::shared_ptr<const NoiseModel>(new NoiseModel(Kind::kUnit, dim));
+namespace {
+// The concrete models: N coefficients inline for the common sizes, a vector otherwise.
+template <int N>
+struct InlineModel final : NoiseModel {
+  InlineModel(Kind kind, int dim) : NoiseModel(kind, dim) { coeffs_ = N > 0 ? storage : nullptr; }
+  double storage[N > 0 ? N : 1];
+};
+struct HeapModel final : NoiseModel {
+  HeapModel(Kind kind, int dim, std::size_t n) : NoiseModel(kind, dim), storage(n) { coeffs_ = storage.data(); }
+  std::vector<double> storage;
+};
+}  // namespace
+
+std::shared_ptr<NoiseModel> NoiseModel::make(Kind kind, int dim) {
+  const std::size_t n = kind == Kind::kUnit ? 0 : kind == Kind::kDiagonal ? dim : static_cast<std::size_t>(dim) * dim;
+  if (n == 0) return std::make_shared<InlineModel<0>>(kind, dim);
+  if (n <= 3) return std::make_shared<InlineModel<3>>(kind, dim);
+  if (n <= 9) return std::make_shared<InlineModel<9>>(kind, dim);
+  if (n <= 36) return std::make_shared<InlineModel<36>>(kind, dim);
+  return std::make_shared<HeapModel>(kind, dim, n);
+}
+
+std::shared_ptr<const NoiseModel> NoiseModel::unit(int dim) { return make(Kind::kUnit, dim); }
+
+std::shared_ptr<NoiseModel> NoiseModel::clone() const {
+  auto m = make(kind_, dim_);
+  const std::size_t n = kind_ == Kind::kDiagonal ? dim_ : kind_ == Kind::kDense ? static_cast<std::size_t>(dim_) * dim_ : 0;
+  std::copy(coeffs_, coeffs_ + n, m->coeffs());
+  return m;
 }
 
 std::shared_ptr<const NoiseModel> NoiseModel::isotropic(int dim, double sigma) {
@@ -21,17 +49,12 @@ std::shared_ptr<const NoiseModel> NoiseModel::isotropic(int dim, double sigma) {
 std::shared_ptr<const NoiseModel> NoiseModel::diagonal(const Eigen::VectorXd& sigmas) {
   if (!(sigmas.array() > 0.0).all() || !sigmas.allFinite())
     throw NumericalError("NoiseModel::diagonal: sigmas must be positive and finite");
-  auto m = std::shared_ptr<NoiseModel>(new NoiseModel(Kind::kDiagonal, static_cast<int>(sigmas.size())));
-  m->diag_ = sigmas.cwiseInverse();
+  auto m = make(Kind::kDiagonal, static_cast<int>(sigmas.size()));
+  Eigen::Map<Eigen::VectorXd>(m->coeffs(), sigmas.size()) = sigmas.cwiseInverse();
   return m;
 }
 
 std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd& omega) {
-  // One heap block for the model and its shared_ptr control block (make_shared; the
-  // constructor is private, so through a local subclass, which has the function's access).
-  struct Shared : NoiseModel {
-    Shared(Kind kind, int dim) : NoiseModel(kind, dim) {}
-  };
   // The checks and the Cholesky on an N × N view: fixed-size for the pose-graph sizes (3, 6),
   // where one model is built per edge, so no dynamic-size loops or heap temporaries there.
   const auto build = [](const auto& W, int n) -> std::shared_ptr<const NoiseModel> {
@@ -50,16 +73,16 @@ std::shared_ptr<const NoiseModel> NoiseModel::information(const Eigen::MatrixXd&
     if (diagonal) {
       if (!(W.diagonal().array() > 0.0).all())
         throw NumericalError("NoiseModel::information: matrix is not positive definite");
-      auto m = std::make_shared<Shared>(Kind::kDiagonal, n);
-      m->diag_ = W.diagonal().cwiseSqrt();
+      auto m = make(Kind::kDiagonal, n);
+      Eigen::Map<Eigen::VectorXd>(m->coeffs(), n) = W.diagonal().cwiseSqrt();
       return m;
     }
     // R (upper, RᵀR = Ω); LLT reads only the lower triangle.
     const Eigen::LLT<Mat> llt(W);
     if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().array() > 0.0).all())
       throw NumericalError("NoiseModel::information: matrix is not positive definite");
-    auto m = std::make_shared<Shared>(Kind::kDense, n);
-    m->upper_ = llt.matrixU();
+    auto m = make(Kind::kDense, n);
+    Eigen::Map<Eigen::MatrixXd>(m->coeffs(), n, n) = llt.matrixU();
     return m;
   };
   const int n = static_cast<int>(omega.rows());
@@ -78,8 +101,8 @@ std::shared_ptr<const NoiseModel> NoiseModel::covariance(const Eigen::MatrixXd& 
 Eigen::MatrixXd NoiseModel::sqrt_information() const {
   switch (kind_) {
     case Kind::kUnit: return Eigen::MatrixXd::Identity(dim_, dim_);
-    case Kind::kDiagonal: return diag_.asDiagonal();
-    case Kind::kDense: return upper_;
+    case Kind::kDiagonal: return Eigen::Map<const Eigen::VectorXd>(coeffs_, dim_).asDiagonal();
+    case Kind::kDense: return Eigen::Map<const Eigen::MatrixXd>(coeffs_, dim_, dim_);
   }
   return {};
 }
@@ -120,15 +143,15 @@ void NoiseModel::whiten_jacobian(double* J, int cols) const {
     case Kind::kUnit: return;
     case Kind::kDiagonal:
       for (int c = 0; c < cols; ++c)
-        for (int i = 0; i < dim_; ++i) J[static_cast<std::ptrdiff_t>(c) * dim_ + i] *= diag_[i];
+        for (int i = 0; i < dim_; ++i) J[static_cast<std::ptrdiff_t>(c) * dim_ + i] *= coeffs_[i];
       return;
     case Kind::kDense:
       switch (dim_) {
-        case 2: return upper_times_columns<2>(upper_.data(), J, cols);
-        case 3: return upper_times_columns<3>(upper_.data(), J, cols);
-        case 6: return upper_times_columns<6>(upper_.data(), J, cols);
+        case 2: return upper_times_columns<2>(coeffs_, J, cols);
+        case 3: return upper_times_columns<3>(coeffs_, J, cols);
+        case 6: return upper_times_columns<6>(coeffs_, J, cols);
         default:
-          for (int c = 0; c < cols; ++c) upper_times_in_place(upper_.data(), dim_, J + static_cast<std::ptrdiff_t>(c) * dim_);
+          for (int c = 0; c < cols; ++c) upper_times_in_place(coeffs_, dim_, J + static_cast<std::ptrdiff_t>(c) * dim_);
       }
       return;
   }

@@ -13,6 +13,42 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
+
+/// Degrees of freedom of the graph's least-squares problem at the file's estimates: residual
+/// rows (Σ edge dimensions) minus the free tangent dimensions (vertices not in the gauge).
+double degrees_of_freedom(const PoseGraph& g, const std::vector<std::int64_t>& gauge) {
+  double rows = 0.0, free = 0.0;
+  for (const GraphEdge& e : g.edges) rows += static_cast<double>(e.information.rows());
+  for (const GraphVertex& v : g.vertices()) free += tangent_dim(v.kind);
+  for (std::int64_t id : gauge) free -= tangent_dim(g.vertex(id).kind);
+  return rows - free;
+}
+
+/// init = auto on a 2D graph starts from the file's estimates when they already fit the
+/// measurements within their noise (χ² ≤ keep_estimates_chi2_per_dof × degrees of freedom, every
+/// vertex estimated, no calibration): an initialization exists to leave a start in a wrong basin,
+/// and a start whose objective is at the noise level is not one (the counterpart of
+/// retry_chi2_per_dof). In 3D the chordal initialization (two systems of 3×3 blocks) costs about a
+/// quarter of a Gauss-Newton iteration (6×6 blocks), so it pays as soon as it saves an iteration:
+/// it always runs.
+InitMethod resolve_auto_init(const PoseGraph& g, const PoseGraphOptimizerOptions& options,
+                             const std::vector<std::int64_t>& gauge, double input_chi2, std::vector<std::string>* notes) {
+  if (options.init != InitMethod::kAuto || !(options.keep_estimates_chi2_per_dof > 0.0) || g.dimension() != 2)
+    return options.init;
+  for (const GraphVertex& v : g.vertices())
+    if (!v.has_estimate) return options.init;
+  for (const GraphEdge& e : g.edges)
+    if (e.calibrated) return options.init;
+  const double dof = degrees_of_freedom(g, gauge);
+  if (!(dof > 0.0) || !(input_chi2 <= options.keep_estimates_chi2_per_dof * dof)) return options.init;
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "the graph's estimates fit its measurements (chi2 %.6g <= %.3g x %.0f degrees of freedom): optimized "
+                "from them without an initialization (--init linear|chordal to run one)",
+                input_chi2, options.keep_estimates_chi2_per_dof, dof);
+  notes->push_back(buf);
+  return InitMethod::kNone;
+}
 }  // namespace
 
 PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOptions& options) {
@@ -51,19 +87,23 @@ PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOption
   init_options.ordering = options.optimizer.ordering;
   init_options.threads = options.optimizer.blas_threads > 0 ? options.optimizer.blas_threads : options.optimizer.num_threads;
   init_options.vertex_order = order;
-  r.init = initialize_pose_graph(g, options.init, gauge, init_options);
+  const InitMethod init = resolve_auto_init(g, options, gauge, r.input_chi2, &r.notes);
+  r.init = initialize_pose_graph(g, init, gauge, init_options);
+  r.init.requested = options.init;
+  if (init != options.init) r.init.notes = r.notes;
   lap(ph.init_s);
   PoseGraphProblem problem = build_pose_graph_problem(g, options.problem, &gauge, &gauge_notes);
   lap(ph.problem_s);
   // Without a kernel or calibration the optimizer's initial cost is this chi2: no extra pass.
   const bool cost_is_chi2 = !options.problem.kernel && problem.calibration.empty();
-  if (options.init == InitMethod::kNone) r.chi2_after_init = r.input_chi2;
+  if (init == InitMethod::kNone) r.chi2_after_init = r.input_chi2;
   else if (!cost_is_chi2) r.chi2_after_init = total_chi2(g);
   lap(ph.chi2_after_init_s);
 
-  r.notes = problem.notes;
+  r.notes.insert(r.notes.end(), problem.notes.begin(), problem.notes.end());
   OptimizerOptions opt = options.optimizer;
   opt.variable_order = order;
+  opt.shared_symbolic = std::move(r.init.symbolic);  // the initialization's pattern analysis, if H's pattern is its
   // Calibration variables (after the vertices in Values) are eliminated last. After the run,
   // parameters the data does not determine are restored to their initial values and held
   // there by tight priors, and the problem is optimized again (factors/calibration_problem.h).
@@ -76,7 +116,7 @@ PoseGraphResult optimize_pose_graph(PoseGraph& g, const PoseGraphOptimizerOption
     ph.problem_s += more;
   }
   r.summary = Optimizer(opt).optimize(problem.graph, problem.values);
-  if (options.init != InitMethod::kNone && cost_is_chi2) r.chi2_after_init = r.summary.initial_cost;
+  if (init != InitMethod::kNone && cost_is_chi2) r.chi2_after_init = r.summary.initial_cost;
   // A guess that disagrees with the measurements by more than their noise (objective above its
   // degrees of freedom) may sit in a wrong basin: also optimize from the spanning-tree guess and
   // keep the lower minimum. The test costs nothing; the second run happens only when it fires.

@@ -10,6 +10,13 @@ PoseGraphProblem build_pose_graph_problem(const PoseGraph& g, const PoseGraphPro
                                           const std::vector<std::int64_t>* gauge,
                                           const std::vector<std::string>* gauge_notes) {
   PoseGraphProblem p;
+  std::size_t params = 0;
+  for (const GraphVertex& v : g.vertices())
+    params += v.kind == VertexKind::kPose2   ? ManifoldTraits<SE2>::kAmbient
+              : v.kind == VertexKind::kPose3 ? ManifoldTraits<SE3>::kAmbient
+                                             : (v.kind == VertexKind::kPoint2 ? 2 : 3);
+  p.values.reserve(g.vertices().size(), params);  // calibration variables, if any, regrow it once
+  p.graph.reserve(g.edges.size());
   for (const GraphVertex& v : g.vertices()) {
     if (!v.has_estimate)
       throw InputError(g.source, v.line, "id", "vertex " + std::to_string(v.id) + " has no initial estimate");

@@ -16,18 +16,36 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "slamkit/linear/block_sparse_matrix.h"
 
 namespace slamkit::detail {
 
+/// The block-pattern part of the symbolic analysis: the pattern analyzed (A's block column
+/// pointers and row indices), L's block pattern by columns (rows ascending) and the slot in L's
+/// column of each of A's off-diagonal blocks. It does not depend on the block size, so systems
+/// over the same block pattern share it (a 2D pose graph's orientation and position systems and
+/// its optimizer's H). Immutable once built.
+struct BlockSymbolic {
+  std::vector<int> a_col_ptr, a_rows;
+  std::vector<int> col_start, rows;  // off-diagonal blocks of L by column
+  std::vector<int> a_start, a_slot;  // A's off-diagonal blocks of column j → slot in L's column j
+  /// Whether this analysis was made for A's block pattern.
+  bool matches(const BlockSparseMatrix& A) const;
+};
+
 class BlockCholesky {
  public:
   /// Whether A's blocks are all D×D with D ∈ {1, 2, 3, 6}.
   static bool supports(const BlockSparseMatrix& A);
-  /// Symbolic analysis of A's pattern as stored (requires supports(A)).
-  void analyze(const BlockSparseMatrix& A);
+  /// Symbolic analysis of A's pattern as stored (requires supports(A)); adopts `reuse` instead
+  /// of analyzing the pattern when it was made for A's block pattern.
+  void analyze(const BlockSparseMatrix& A, std::shared_ptr<const BlockSymbolic> reuse = nullptr);
+  /// The pattern analysis in use (shareable), and whether analyze() adopted it.
+  const std::shared_ptr<const BlockSymbolic>& symbolic() const { return sym_; }
+  bool reused_symbolic() const { return reused_; }
   /// Scalar nonzeros of L and CHOLMOD's flop measure Σ_columns (nnz of the column)².
   double factor_nnz() const { return lnz_; }
   double factor_flops() const { return flops_; }
@@ -47,9 +65,11 @@ class BlockCholesky {
   template <int D>
   void forward_fixed(double* x) const;
 
+  static std::shared_ptr<const BlockSymbolic> analyze_pattern(const BlockSparseMatrix& A);
+
   int n_ = 0, d_ = 0;
-  std::vector<int> col_start_, rows_;  // off-diagonal blocks of L by column, rows ascending
-  std::vector<int> a_start_, a_slot_;  // A's off-diagonal blocks of column j → slot in L's column j
+  std::shared_ptr<const BlockSymbolic> sym_;
+  bool reused_ = false;
   std::vector<std::ptrdiff_t> a_base_;  // offset of A(j, j) in A's values (its column starts there)
   std::vector<double> diag_, off_;     // D×D blocks, column-major: L(j, j) and L(rows_[q], j)
   std::vector<int> map_, head_, link_, next_;  // factorization workspace

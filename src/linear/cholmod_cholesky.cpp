@@ -101,18 +101,28 @@ class CholmodCholesky final : public SparseCholesky {
   bool is_fallback() const override { return false; }
 
   void analyze(const BlockSparseMatrix& A, const EliminationOrder* block_order) override {
+    analyze_with(A, block_order, nullptr);
+  }
+  void analyze_sharing(const BlockSparseMatrix& A, const SharedSymbolic& shared) override {
+    analyze_with(A, nullptr, shared);
+  }
+  SharedSymbolic shared_symbolic() const override { return use_block_ ? block_.symbolic() : nullptr; }
+
+  void analyze_with(const BlockSparseMatrix& A, const EliminationOrder* block_order, const SharedSymbolic& shared) {
     const double t0 = now_s();
     if (L_) cholmod_free_factor(&L_, &c_);
     n_ = A.rows();
     use_block_ = false;
+    stats_.shared_analysis = false;
     if (!block_order && detail::BlockCholesky::supports(A)) {
       // Stored order, equal blocks: the block factorization does CHOLMOD's simplicial work
       // with D×D kernels and no scalar symbolic analysis, and up to flops / nnz(L) < 120
       // (CHOLMOD's switch to supernodal is 40, on the same scalar counts) it also beats the
       // supernodal BLAS-3 path, whose supernodes are still narrow there.
-      block_.analyze(A);
+      block_.analyze(A, shared);
       if (block_.factor_flops() < kBlockSwitch * block_.factor_nnz()) {
         use_block_ = true;
+        stats_.shared_analysis = block_.reused_symbolic();
         stats_.ordering = "as stored";
         stats_.factor_nnz = block_.factor_nnz();
         stats_.factor_flops = block_.factor_flops();

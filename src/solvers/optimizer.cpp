@@ -92,7 +92,7 @@ Summary Optimizer::optimize(const FactorGraph& graph, Values& values) const {
   }
   s.linear_solver_is_fallback = chol->is_fallback();
   s.time_setup_s = now_s() - t_start;
-  chol->analyze(ne.hessian());  // H is stored in elimination order
+  chol->analyze_sharing(ne.hessian(), options_.shared_symbolic);  // H is stored in elimination order
   s.linear_solver = chol->name();  // after analysis: says supernodal or simplicial
   s.ordering = ne.ordering();
   s.time_analyze_s = chol->stats().analyze_time_s;

@@ -176,8 +176,9 @@ class PoseSystem {
     A_ = BlockSparseMatrix(std::vector<int>(layout.n, B), layout.pattern);
     B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
     chol_ = make_sparse_cholesky(o.linear_solver, o.ordering, o.threads);
-    chol_->analyze(A_);
-    ++summary_.analyses;
+    chol_->analyze_sharing(A_, summary_.symbolic);  // the pattern analysis of an earlier system over the same poses
+    if (!chol_->stats().shared_analysis) ++summary_.analyses;
+    if (SharedSymbolic shared = chol_->shared_symbolic()) summary_.symbolic = std::move(shared);
     summary_.time_analyze_s += seconds_since(t0);
   }
   int unknown(int pose) const { return unknown_[pose]; }

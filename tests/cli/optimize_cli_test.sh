@@ -44,6 +44,10 @@ grep -q "missing.g2o" "$work/err.txt" || fail "missing-file message does not nam
 "$slamkit" optimize sim:manhattan --solver magic >"$work/err.txt" 2>&1 && fail "unknown solver accepted"
 grep -q "unknown solver 'magic'" "$work/err.txt" || fail "unknown-solver message: $(cat "$work/err.txt")"
 "$slamkit" optimize sim:manhattan --robust huber >"$work/err.txt" 2>&1 && fail "robust spec without delta accepted"
+for bad in -1 nan; do
+  "$slamkit" optimize sim:manhattan --keep-estimates-chi2-per-dof "$bad" >"$work/err.txt" 2>&1 && fail "--keep-estimates-chi2-per-dof $bad accepted"
+  grep -q "keep_estimates_chi2_per_dof" "$work/err.txt" || fail "keep-estimates message: $(cat "$work/err.txt")"
+done
 printf 'VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 nan\n' >"$work/nan.g2o"
 "$slamkit" optimize "$work/nan.g2o" >"$work/err.txt" 2>&1 && fail "NaN accepted"
 grep -q "nan.g2o:2" "$work/err.txt" || fail "NaN message lacks file:line: $(cat "$work/err.txt")"
@@ -52,6 +56,16 @@ grep -q "nan.g2o:2" "$work/err.txt" || fail "NaN message lacks file:line: $(cat 
 require_data posegraph
 "$slamkit" optimize "$data/posegraph/3d/cubicle.g2o" -q >"$work/err.txt" 2>&1 && fail "indefinite information accepted"
 grep -q -- "--repair-information" "$work/err.txt" || fail "no repair hint: $(cat "$work/err.txt")"
+# intel.g2o's own estimates fit its measurements (chi2/dof 0.23): init auto keeps them; 0 forces LAGO.
+"$slamkit" optimize "$data/posegraph/2d/intel.g2o" --json "$work/intel.json" -q >/dev/null 2>&1 || fail "intel failed"
+"$slamkit" optimize "$data/posegraph/2d/intel.g2o" --keep-estimates-chi2-per-dof 0 --json "$work/intel0.json" -q >/dev/null 2>&1 ||
+  fail "intel with --keep-estimates-chi2-per-dof 0 failed"
+python3 - "$work/intel.json" "$work/intel0.json" <<'PY' || fail "intel's start"
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+assert a["init"] == "none" and a["init_requested"] == "auto" and b["init"] == "linear", (a["init"], b["init"])
+assert abs(a["final_chi2"] - b["final_chi2"]) < 1e-7 * b["final_chi2"], (a["final_chi2"], b["final_chi2"])
+PY
 # Ground truth of sphere2500: its noise-free measurements composed along the odometry.
 "$slamkit" optimize "$data/posegraph/3d/gtsam_txt/sphere2500_groundtruth.txt" --init none --max-iterations 0 \
   --trajectory "$work/gt.tum" -q >/dev/null 2>&1 || fail "ground-truth export failed"

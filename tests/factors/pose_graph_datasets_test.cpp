@@ -68,6 +68,23 @@ TEST(DefaultInitialization, SecondGuessOnlyWhenChi2PerDofAfterInitExceedsOne) {
   }
 }
 
+// intel.g2o comes with estimates at χ²/dof 0.23: the default starts from them and reaches the
+// same minimum as after LAGO; M3500's odometry start (χ²/dof 438) is initialized.
+TEST(DefaultInitialization, FileEstimatesThatFitTheNoiseNeedNoInitialization) {
+  for (const char* f : {"posegraph/2d/intel.g2o", "posegraph/2d/input_M3500_g2o.g2o"}) {
+    SLAMKIT_REQUIRE_DATA(file, f);
+    const PoseGraph original = read_pose_graph(file.string());
+    PoseGraph g = original;
+    const PoseGraphResult r = optimize_pose_graph(g);
+    const bool fits = std::string(f).find("intel") != std::string::npos;
+    EXPECT_EQ(r.init.used, fits ? InitMethod::kNone : InitMethod::kLinear) << f;
+    PoseGraph h = original;
+    PoseGraphOptimizerOptions lago;
+    lago.init = InitMethod::kLinear;
+    EXPECT_NEAR(r.final_chi2, optimize_pose_graph(h, lago).final_chi2, 1e-7 * r.final_chi2) << f;
+  }
+}
+
 // Large enough that evaluation, assembly and retraction run in parallel (small graphs stay on
 // the calling thread): the result must not depend on the thread count.
 TEST(DatasetThreads, ResultIsBitIdenticalForAnyThreadCount) {

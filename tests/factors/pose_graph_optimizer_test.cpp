@@ -55,6 +55,34 @@ TEST(PoseGraphOptimizer, FixedVerticesStayPut) {
   EXPECT_LT(r.final_chi2, r.input_chi2);
 }
 
+// init = auto keeps estimates that already fit the measurements: an optimized graph whose noise
+// is stated 2× too large (information / 4: the same minimizer, χ²/dof ≈ 1/4 there) starts from
+// its estimates (no initialization) and stays at its minimum; the generator's odometry start (far
+// above its degrees of freedom) is initialized, and keep_estimates_chi2_per_dof = 0 always is.
+TEST(PoseGraphOptimizer, AutoInitKeepsEstimatesThatFitTheNoise) {
+  PoseGraphSimOptions o;
+  o.num_poses = 400;
+  PoseGraph g = generate_pose_graph(o);
+  const PoseGraphResult first = optimize_pose_graph(g);
+  EXPECT_EQ(first.init.used, InitMethod::kLinear);
+  ASSERT_TRUE(first.summary.success());
+  for (GraphEdge& e : g.edges) e.information *= 0.25;
+  const PoseGraph optimized = g;
+  const PoseGraphResult again = optimize_pose_graph(g);
+  EXPECT_EQ(again.init.requested, InitMethod::kAuto);
+  EXPECT_EQ(again.init.used, InitMethod::kNone);
+  ASSERT_FALSE(again.notes.empty());
+  EXPECT_NE(again.notes[0].find("estimates fit its measurements"), std::string::npos) << again.notes[0];
+  EXPECT_EQ(again.chi2_after_init, again.input_chi2);
+  EXPECT_NEAR(again.final_chi2, 0.25 * first.final_chi2, 1e-9 * first.final_chi2);
+  PoseGraph forced = optimized;
+  PoseGraphOptimizerOptions always;
+  always.keep_estimates_chi2_per_dof = 0.0;
+  const PoseGraphResult initialized = optimize_pose_graph(forced, always);
+  EXPECT_EQ(initialized.init.used, InitMethod::kLinear);
+  EXPECT_NEAR(initialized.final_chi2, again.final_chi2, 1e-9 * again.final_chi2);
+}
+
 // Poses on a circle observing landmarks, exact measurements, perturbed start: the optimum is
 // the truth (chi2 = 0).
 template <bool kThreeD>

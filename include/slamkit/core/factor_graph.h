@@ -20,6 +20,7 @@ class FactorGraph {
     factors_.push_back(f);
     return f;
   }
+  void reserve(std::size_t n) { factors_.reserve(n); }
   std::size_t size() const { return factors_.size(); }
   bool empty() const { return factors_.empty(); }
   const Factor& operator[](std::size_t i) const { return *factors_[i]; }

@@ -3,6 +3,8 @@
 // A residual r with covariance Σ = Ω⁻¹ is whitened to R r, where R is upper triangular
 // with RᵀR = Ω (R = Lᵀ from the Cholesky factor Ω = L Lᵀ), so that ‖R r‖² = rᵀ Ω r.
 // Unit and diagonal models whiten without a matrix product. Immutable; thread-safe.
+// A model and its coefficients (1/σ or R) are one heap block with the shared_ptr's control
+// block: building one per edge of a pose graph costs a single allocation.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,21 +31,31 @@ class NoiseModel {
 
   /// The whitening data: 1/σ (dim values) for kDiagonal, R column-major (dim × dim) for kDense,
   /// null for kUnit. For fixed-size whitening in the factors' hot path (core/factor.h).
-  const double* whitening_data() const {
-    return kind_ == Kind::kDiagonal ? diag_.data() : kind_ == Kind::kDense ? upper_.data() : nullptr;
-  }
+  const double* whitening_data() const { return coeffs_; }
 
   /// r ← R r (length dim).
   void whiten(double* r) const;
   /// J ← R J for a column-major dim × cols block.
   void whiten_jacobian(double* J, int cols) const;
 
- private:
+  /// An independent model with the same coefficients (models are shared; this is for owners
+  /// that need their own, e.g. a mutable handle in Python).
+  std::shared_ptr<NoiseModel> clone() const;
+
+  NoiseModel(const NoiseModel&) = delete;  // coeffs_ points into the concrete model's storage
+  NoiseModel& operator=(const NoiseModel&) = delete;
+  ~NoiseModel() = default;  // the concrete model is destroyed through make_shared's control block
+
+ protected:
   NoiseModel(Kind kind, int dim) : kind_(kind), dim_(dim) {}
+  /// A model whose coefficients (dim for kDiagonal, dim² for kDense, none for kUnit) live in
+  /// the returned object; fill them through coeffs().
+  static std::shared_ptr<NoiseModel> make(Kind kind, int dim);
+  double* coeffs() { return const_cast<double*>(coeffs_); }
+
   Kind kind_;
   int dim_;
-  Eigen::VectorXd diag_;   // kDiagonal: 1/σ
-  Eigen::MatrixXd upper_;  // kDense: R
+  const double* coeffs_ = nullptr;  // kDiagonal: 1/σ; kDense: R column-major; kUnit: null
 };
 
 }  // namespace slamkit

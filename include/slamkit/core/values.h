@@ -41,6 +41,14 @@ class Values {
     ManifoldTraits<T>::to_params(value, params(checked_index<T>(key)));
   }
 
+  /// Room for `variables` variables holding `params` parameters in all: inserting up to that
+  /// many rehashes and regrows nothing.
+  void reserve(std::size_t variables, std::size_t params) {
+    vars_.reserve(variables);
+    data_.reserve(params);
+    index_.reserve(variables);
+  }
+
   bool exists(Key key) const { return index_.count(key) != 0; }
   std::size_t size() const { return vars_.size(); }
   void set_fixed(Key key, bool fixed = true) { vars_[index_of(key)].fixed = fixed; }

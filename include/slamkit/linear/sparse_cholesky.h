@@ -35,8 +35,16 @@ struct EliminationOrder {
   double flops = 0.0;      ///< Cholesky flops of the unit-block pattern under this order
 };
 
+namespace detail {
+struct BlockSymbolic;
+}
+/// A symbolic analysis that systems over the same block pattern (of any uniform block size)
+/// can share; opaque outside the linear module.
+using SharedSymbolic = std::shared_ptr<const detail::BlockSymbolic>;
+
 struct CholeskyStats {
   std::string ordering;     ///< the ordering actually used
+  bool shared_analysis = false;  ///< the last analyze adopted a shared pattern analysis
   double analyze_time_s = 0.0;
   double factor_nnz = 0.0;  ///< nonzeros in L
   double factor_flops = 0.0;
@@ -55,6 +63,12 @@ class SparseCholesky {
   /// as stored. With block_order (first eliminated first), A is permuted at every
   /// factorization.
   virtual void analyze(const BlockSparseMatrix& A, const EliminationOrder* block_order = nullptr) = 0;
+  /// analyze(A) in stored order, adopting `shared` when it was made for A's block pattern (the
+  /// pattern is compared; otherwise it is analyzed). Backends that cannot share analyze.
+  virtual void analyze_sharing(const BlockSparseMatrix& A, const SharedSymbolic& shared) { analyze(A); }
+  /// The pattern analysis of the last analyze, for another system over the same block pattern;
+  /// null when it is not shareable (supernodal, permuted, the Eigen fallback).
+  virtual SharedSymbolic shared_symbolic() const { return nullptr; }
   /// Numeric factorization of A's values. False if A is not (numerically) positive definite.
   virtual bool factorize(const BlockSparseMatrix& A) = 0;
   /// x = A⁻¹ b (b and x of length A.rows(); they may alias).

@@ -67,6 +67,9 @@ struct OptimizerOptions {
   /// Elimination order over Values indices (variables not free are skipped); empty: computed
   /// from the problem with `ordering`.
   EliminationOrder variable_order;
+  /// A symbolic analysis made for H's block pattern (e.g. by the initialization's systems over
+  /// the same poses, InitSummary::symbolic): adopted when the pattern matches, else H is analyzed.
+  SharedSymbolic shared_symbolic;
   /// Schur complement (linear/schur_complement.h): the variables for which this returns true
   /// (e.g. the landmarks of bundle adjustment) are eliminated first and the reduced system is
   /// solved with `schur`. Empty: the whole system goes to the sparse Cholesky.

@@ -33,7 +33,10 @@ struct InitSummary {
   // Phases of time_s (linear/chordal): spanning tree (orientation wraps), symbolic analyses
   // of the linear systems, their assembly, numeric factorization + solve, landmark guesses.
   double time_tree_s = 0.0, time_analyze_s = 0.0, time_assemble_s = 0.0, time_solve_s = 0.0, time_points_s = 0.0;
-  int analyses = 0;  ///< symbolic analyses the initialization ran (0 when it shares the optimizer's)
+  int analyses = 0;  ///< symbolic analyses of block patterns the initialization ran (shared ones not counted)
+  /// The pattern analysis of its linear systems (null if not shareable): the optimizer of a
+  /// pose-only graph, whose H has the same block pattern, adopts it instead of analyzing again.
+  SharedSymbolic symbolic;
   std::vector<std::string> notes;
 };
 
