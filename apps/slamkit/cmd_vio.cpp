@@ -269,7 +269,7 @@ void add_vio_command(CLI::App& app) {
                   "with --images: refine E by robust least squares on the bearings")->capture_default_str();
   sub->add_option_function<std::string>(
          "--imu-rotation", [o](const std::string& v) { o->image.vio.frontend.filter.known_rotation = v == "on"; },
-         "with --images: epipolar test with the gyroscope's rotation, only the translation fitted (2-point RANSAC) [off]")
+         "with --images: epipolar test with the gyroscope's rotation, only the translation fitted (2-point RANSAC) [on]")
       ->check(CLI::IsMember({"on", "off"}));
   sub->add_option("--rotation-prior-sigma", o->image.vio.frontend.filter.rotation_prior_sigma_rad,
                   "with --imu-rotation on and --refine-essential: sigma of the prior letting the refinement move R "

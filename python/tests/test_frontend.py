@@ -105,11 +105,11 @@ def test_trusted_model_and_essential_refinement_options():
 
 def test_known_rotation_options():
     o = sk.FrontendOptions()
-    assert o.known_rotation is False and o.rotation_prior_sigma_rad == 0.0 and o.pure_rotation_share == 0.5
-    o = sk.FrontendOptions(known_rotation=True, rotation_prior_sigma_rad=0.002, pure_rotation_share=0.7)
-    f = sk.ImageFrontend(o)
-    assert (f.options.known_rotation, f.options.rotation_prior_sigma_rad, f.options.pure_rotation_share) == (True, 0.002, 0.7)
-    assert "known_rotation=True" in repr(o)
+    assert o.known_rotation is True and o.rotation_prior_sigma_rad == 0.0 and o.pure_rotation_share == 0.5
+    o = sk.FrontendOptions(known_rotation=False, rotation_prior_sigma_rad=0.002, pure_rotation_share=0.7)
+    assert (o.known_rotation, o.rotation_prior_sigma_rad, o.pure_rotation_share) == (False, 0.002, 0.7)
+    assert "known_rotation=False" in repr(o)
+    f = sk.ImageFrontend(sk.FrontendOptions(known_rotation=True))
     frame = np.zeros((64, 64), np.uint8)
     assert f.process(frame, rotation=np.eye(3)).motion_model == "estimated"  # nothing tracked yet
     with pytest.raises(ValueError):

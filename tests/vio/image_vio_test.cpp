@@ -281,8 +281,10 @@ TEST(ImageVio, GyroRotationsAreTheCameraRotationsAndDriveTheKnownRotationModel) 
   EXPECT_EQ(off.frames_known_rotation + off.frames_pure_rotation + off.frames_rotation_rejected, 0u);
   EXPECT_GT(on.frames_known_rotation + on.frames_pure_rotation, on.frames * 8 / 10);
   EXPECT_EQ(on.frames_rotation_rejected, 0u);
-  EXPECT_GT(on.score.recall(), 0.5);
-  EXPECT_GT(on.score.precision(), 0.5);
+  // Measured (seed 2, 4 s, k = 4): estimated E precision 0.894 recall 0.813 (fp 28); gyro rotation
+  // 0.932 / 0.831 (fp 18), 75 of 81 frames on the known rotation, none pure rotation.
+  EXPECT_GT(on.score.precision(), 0.85);
+  EXPECT_GT(on.score.recall(), 0.75);
 }
 
 TEST(ImageVio, FrontEndTracksDriveTheSlidingWindow) {

@@ -145,7 +145,8 @@ std::shared_ptr<CameraModel> tumvi_camera() {
 TEST(KnownRotationEpipolar, KnownRotationKeepsTheCameraMotionUnderATurningMajorityCrowd) {
   const auto cam = tumvi_camera();
   DynamicFilterOptions fo;
-  DynamicFeatureFilter estimated(fo, cam);
+  fo.known_rotation = false;
+  DynamicFeatureFilter estimated(fo, cam);  // the option off: a given rotation is not used
   fo.known_rotation = true;
   DynamicFeatureFilter known(fo, cam);
   std::mt19937 rng(11);
@@ -180,7 +181,9 @@ TEST(KnownRotationEpipolar, KnownRotationKeepsTheCameraMotionUnderATurningMajori
       add(p, crowd_motion.act(p), 1);
     }
     const Eigen::Matrix3d R_c2_c1 = (T1 * T0.inverse()).rotation().matrix();  // x_c2 = R x_c1 + t
-    score_estimated += score_against_feature_labels(label, estimated.classify(prev, cur).flags);
+    const Classification e = estimated.classify(prev, cur, nullptr, &R_c2_c1);
+    EXPECT_EQ(e.motion_model, MotionModel::kEstimated);
+    score_estimated += score_against_feature_labels(label, e.flags);
     const Classification c = known.classify(prev, cur, nullptr, &R_c2_c1);
     ASSERT_EQ(c.status, ClassificationStatus::kEpipolar);
     known_frames += c.motion_model == MotionModel::kKnownRotation;
