@@ -248,5 +248,38 @@ TEST(KnownRotationEpipolar, FilterFallsBackAndReportsWhenTheRotationIsUnusable) 
   EXPECT_THROW(DynamicFeatureFilter(fo, cam), std::invalid_argument);
 }
 
+
+// Pinhole mode (a radtan camera with spherical = false): the known-rotation model is scored by the
+// virtual-pinhole distance to the line of F = K⁻ᵀ [t]× R K⁻¹ (and to π(R b1) under pure rotation),
+// mapped to raw pixels; static points pass, a mover moved 3 px across its line is flagged.
+TEST(KnownRotationEpipolar, PinholeModeScoresTheLineDistanceInRawPixels) {
+  const auto cam = make_camera_model("radtan", {458.654, 457.296, 367.215, 248.375, -0.283408, 0.0739591, 0.00019359, 1.76187e-05},
+                                     752, 480);
+  std::mt19937 rng(17);
+  const Eigen::Matrix3d R = rotation(Eigen::Vector3d(0.01, -0.02, 0.005));
+  DynamicFilterOptions fo;
+  fo.spherical = false;
+  const DynamicFeatureFilter filter(fo, cam);
+  for (const Eigen::Vector3d t : {Eigen::Vector3d(0.1, 0.01, 0.02), Eigen::Vector3d(0.0, 0.0, 0.0)}) {
+    const Matches m = static_matches(R, t, 120, &rng);
+    std::vector<Eigen::Vector2d> prev, cur;
+    for (std::size_t i = 0; i < m.b1.size(); ++i) {
+      Eigen::Vector2d a, b;
+      if (m.b1[i].z() > 0.5 && m.b2[i].z() > 0.5 && cam->project(m.b1[i], &a) && cam->project(m.b2[i], &b) &&
+          cam->in_image(a, 2) && cam->in_image(b, 2))
+        prev.push_back(a), cur.push_back(b);
+    }
+    ASSERT_GE(prev.size(), 40u);
+    cur[0] += Eigen::Vector2d(0.0, 3.0);  // a mover: 3 px off (vertical: across a horizontal-ish line)
+    const Classification c = filter.classify(prev, cur, nullptr, &R);
+    const bool pure = t.norm() == 0.0;
+    ASSERT_EQ(c.motion_model, pure ? MotionModel::kPureRotation : MotionModel::kKnownRotation);
+    EXPECT_EQ(c.flags[0], FeatureMotion::kDynamic) << c.distance_px[0];
+    EXPECT_GT(c.distance_px[0], pure ? 2.9 : 1.0);
+    for (std::size_t i = 1; i < prev.size(); ++i) EXPECT_LT(c.distance_px[i], 0.05) << i;
+    EXPECT_NEAR(filter.epipolar_distance(c, prev[0], cur[0]), c.distance_px[0], 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace slamkit
