@@ -52,7 +52,7 @@ struct FrontendFrame {
   py::array_t<int> baseline;
   double static_ratio = 1.0, tracking_ms = 0.0, classification_ms = 0.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0, tracked = 0, detected = 0;
-  std::string status;
+  std::string status, motion_model;
 };
 
 FrontendFrame to_frame(const FrontendFrameResult& r) {
@@ -75,6 +75,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.n_static = r.n_static, f.n_dynamic = r.n_dynamic, f.n_unknown = r.n_unknown;
   f.tracked = r.tracking.tracked, f.detected = r.tracking.detected;
   f.status = to_string(r.status);
+  f.motion_model = to_string(r.motion_model);
   return f;
 }
 
@@ -101,7 +102,8 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T EpipolarSear
 
 const std::vector<const char*> kOptionFields = {
     "max_features", "min_distance_px", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
-    "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "baseline_frames",
+    "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "known_rotation",
+    "rotation_prior_sigma_rad", "pure_rotation_share", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc"};
 
@@ -135,6 +137,12 @@ void init_frontend(py::module_& m) {
         "trusted tracks needed to fit the camera's motion on them alone");
   field(opt, "refine_essential", &DynamicFilterOptions::refine_essential,
         "refine E on the bearings by robust least squares (fisheye calibration)");
+  field(opt, "known_rotation", &DynamicFilterOptions::known_rotation,
+        "IMU-aided test: with a rotation given to process(), fit only the translation (2-point RANSAC)");
+  field(opt, "rotation_prior_sigma_rad", &DynamicFilterOptions::rotation_prior_sigma_rad,
+        "known_rotation: sigma of the prior letting the refinement move R (0: R held)");
+  field(opt, "pure_rotation_share", &DynamicFilterOptions::pure_rotation_share,
+        "known_rotation: translation undefined when this share of the matches fits the rotation alone");
   field(opt, "epipolar_search", &EpipolarSearchOptions::enabled,
         "re-search dynamic-flagged features along their epipolar line before the flag counts");
   field(opt, "epipolar_search_range_px", &EpipolarSearchOptions::search_half_px,
@@ -165,6 +173,8 @@ void init_frontend(py::module_& m) {
       .def_readonly("tracked", &FrontendFrame::tracked)
       .def_readonly("detected", &FrontendFrame::detected)
       .def_readonly("status", &FrontendFrame::status)
+      .def_readonly("motion_model", &FrontendFrame::motion_model,
+                    "estimated, known_rotation, pure_rotation or rotation_rejected (the longest test's model)")
       .def_readonly("tracking_ms", &FrontendFrame::tracking_ms)
       .def_readonly("classification_ms", &FrontendFrame::classification_ms)
       .def("__repr__", [](const FrontendFrame& f) {
@@ -184,18 +194,25 @@ void init_frontend(py::module_& m) {
            py::arg("options") = py::none(), py::arg("calib") = "", py::arg("mask") = py::none())
       .def(
           "process",
-          [](ImageFrontend& f, const py::object& image) {
+          [](ImageFrontend& f, const py::object& image, const py::object& rotation) {
             const GrayImage frame = to_gray(image, "image");
+            Eigen::Matrix3d R;
+            if (!rotation.is_none()) {
+              const RowMatrixXd m = to_rows(rotation, 3, "rotation");
+              if (m.rows() != 3) throw py::value_error("rotation: expected a 3x3 matrix");
+              R = m;
+            }
             FrontendFrameResult r;
             {
               py::gil_scoped_release release;
-              r = f.process(frame);
+              r = f.process(frame, rotation.is_none() ? nullptr : &R);
             }
             return to_frame(r);
           },
-          py::arg("image"),
-          "Tracks and classifies the next frame (2-D uint8). ValueError if its size differs from the previous "
-          "frame's or the mask's.")
+          py::arg("image"), py::arg("rotation") = py::none(),
+          "Tracks and classifies the next frame (2-D uint8). rotation (3x3, optional): the camera's rotation from "
+          "the previous frame to this one (x_cur = R x_prev + t), used with known_rotation. ValueError if the "
+          "frame's size differs from the previous frame's or the mask's.")
       .def_property_readonly("options", &ImageFrontend::options);
 
   m.def(

@@ -267,6 +267,16 @@ void add_vio_command(CLI::App& app) {
                   "with --images: fewer trusted matches: fit on all")->check(CLI::NonNegativeNumber)->capture_default_str();
   sub->add_option("--refine-essential", o->image.vio.frontend.filter.refine_essential,
                   "with --images: refine E by robust least squares on the bearings")->capture_default_str();
+  sub->add_option_function<std::string>(
+         "--imu-rotation", [o](const std::string& v) { o->image.vio.frontend.filter.known_rotation = v == "on"; },
+         "with --images: epipolar test with the gyroscope's rotation, only the translation fitted (2-point RANSAC) [on]")
+      ->check(CLI::IsMember({"on", "off"}));
+  sub->add_option("--rotation-prior-sigma", o->image.vio.frontend.filter.rotation_prior_sigma_rad,
+                  "with --imu-rotation on and --refine-essential: sigma of the prior letting the refinement move R "
+                  "(rad; 0: R held)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--pure-rotation-share", o->image.vio.frontend.filter.pure_rotation_share,
+                  "with --imu-rotation on: translation undefined when this share of the matches fits the rotation alone")
+      ->check(CLI::Range(0.01, 1.0))->capture_default_str();
   sub->add_option("--epipolar-search", o->image.vio.frontend.epipolar_search.enabled,
                   "with --images: re-search dynamic-flagged features along their epipolar line before the flag counts")
       ->capture_default_str();

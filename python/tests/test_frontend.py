@@ -103,6 +103,19 @@ def test_trusted_model_and_essential_refinement_options():
     assert "trusted_model=False" in repr(o)
 
 
+def test_known_rotation_options():
+    o = sk.FrontendOptions()
+    assert o.known_rotation is True and o.rotation_prior_sigma_rad == 0.0 and o.pure_rotation_share == 0.5
+    o = sk.FrontendOptions(known_rotation=False, rotation_prior_sigma_rad=0.002, pure_rotation_share=0.7)
+    assert (o.known_rotation, o.rotation_prior_sigma_rad, o.pure_rotation_share) == (False, 0.002, 0.7)
+    assert "known_rotation=False" in repr(o)
+    f = sk.ImageFrontend(sk.FrontendOptions(known_rotation=True))
+    frame = np.zeros((64, 64), np.uint8)
+    assert f.process(frame, rotation=np.eye(3)).motion_model == "estimated"  # nothing tracked yet
+    with pytest.raises(ValueError):
+        f.process(frame, rotation=np.eye(2))
+
+
 def test_epipolar_search_options():
     o = sk.FrontendOptions()
     assert o.epipolar_search is False and o.epipolar_search_range_px == 0.0

@@ -11,6 +11,8 @@
 #include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
+#include "slamkit/vio/known_rotation_epipolar.h"
+
 namespace slamkit {
 
 const char* to_string(FeatureMotion m) {
@@ -18,6 +20,15 @@ const char* to_string(FeatureMotion m) {
     case FeatureMotion::kStatic: return "static";
     case FeatureMotion::kDynamic: return "dynamic";
     default: return "unknown";
+  }
+}
+
+const char* to_string(MotionModel m) {
+  switch (m) {
+    case MotionModel::kEstimated: return "estimated";
+    case MotionModel::kKnownRotation: return "known_rotation";
+    case MotionModel::kPureRotation: return "pure_rotation";
+    default: return "rotation_rejected";
   }
 }
 
@@ -37,6 +48,8 @@ DynamicFeatureFilter::DynamicFeatureFilter(DynamicFilterOptions o, std::shared_p
   if (!(o.ransac_confidence > 0.0 && o.ransac_confidence < 1.0) || o.ransac_max_iterations < 1)
     throw std::invalid_argument("dynamic feature filter: ransac_confidence in (0, 1), ransac_max_iterations >= 1");
   if (o.min_matches < 8) throw std::invalid_argument("dynamic feature filter: min_matches must be >= 8 (8-point algorithm)");
+  if (!(o.rotation_prior_sigma_rad >= 0.0) || !(o.pure_rotation_share > 0.0 && o.pure_rotation_share <= 1.0))
+    throw std::invalid_argument("dynamic feature filter: rotation_prior_sigma_rad >= 0 and pure_rotation_share in (0, 1]");
   if (camera_) {
     const Eigen::VectorXd k = camera_->intrinsics();
     fx_ = k[0], fy_ = k[1], cx_ = k[2], cy_ = k[3];
@@ -95,7 +108,7 @@ double DynamicFeatureFilter::pinhole_distance(const Eigen::Matrix3d& F, const Ei
 
 Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>& prev,
                                               const std::vector<Eigen::Vector2d>& cur,
-                                              const std::vector<char>* trusted) const {
+                                              const std::vector<char>* trusted, const Eigen::Matrix3d* R_c2_c1) const {
   if (prev.size() != cur.size())
     throw std::invalid_argument("dynamic feature filter: " + std::to_string(prev.size()) + " previous and " +
                                 std::to_string(cur.size()) + " current pixels");
@@ -113,10 +126,11 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   std::vector<double> flow;
   std::vector<Eigen::Vector3d> b1, b2;  // unit bearings (spherical mode)
   const bool spherical = this->spherical();
+  const bool known_rotation = options_.known_rotation && R_c2_c1 && camera_;
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::Vector2d a, b;
     if (!undistort(prev[i], &a) || !undistort(cur[i], &b)) continue;
-    if (spherical) {
+    if (spherical || known_rotation) {
       Eigen::Vector3d u, v;
       camera_->unproject(prev[i], &u), camera_->unproject(cur[i], &v);
       b1.push_back(u.normalized()), b2.push_back(v.normalized());
@@ -164,6 +178,17 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
     for (std::size_t k = 0; k < m; ++k) n_trusted += (*trusted)[index[k]] != 0;
     if (n_trusted >= std::max(options_.min_matches, options_.min_trusted_matches))
       for (std::size_t k = 0; k < m; ++k) fit[k] = (*trusted)[index[k]] != 0;
+  }
+  if (options_.known_rotation && R_c2_c1) {  // IMU-aided: the translation direction alone (session 28)
+    if (known_rotation) {
+      std::vector<Eigen::Vector2d> v1(m), v2(m), raw2(m);
+      for (std::size_t k = 0; k < m; ++k) v1[k] = {p1[k].x, p1[k].y}, v2[k] = {p2[k].x, p2[k].y}, raw2[k] = cur[index[k]];
+      if (classify_known_rotation(b1, b2, v1, v2, raw2, index, fit, *R_c2_c1, &c)) {
+        c.status = ClassificationStatus::kEpipolar;
+        return finish();
+      }
+    }
+    c.motion_model = MotionModel::kRotationRejected;  // no camera model, or R unusable: estimated below
   }
   if (spherical) {
     c.status = classify_spherical(b1, b2, index, fit, &c) ? ClassificationStatus::kEpipolar : ClassificationStatus::kNoFundamental;
@@ -418,11 +443,73 @@ bool DynamicFeatureFilter::classify_spherical(const std::vector<Eigen::Vector3d>
   return true;
 }
 
+double DynamicFeatureFilter::rotation_distance(const Eigen::Matrix3d& R, const Eigen::Vector3d& b1, const Eigen::Vector2d& b,
+                                               const Eigen::Vector2d& raw2) const {
+  const Eigen::Vector3d a = R * b1;
+  if (!(a.z() > 0.0)) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d q(fx_ * a.x() / a.z() + cx_, fy_ * a.y() / a.z() + cy_);  // R b1 on the virtual pinhole
+  Eigen::Matrix2d J;
+  if (undistort_jacobian(raw2, &J)) return (J.inverse() * (b - q)).norm();  // virtual → raw pixels
+  return (b - q).norm();
+}
+
+bool DynamicFeatureFilter::classify_known_rotation(const std::vector<Eigen::Vector3d>& all_b1,
+                                                   const std::vector<Eigen::Vector3d>& all_b2,
+                                                   const std::vector<Eigen::Vector2d>& v1, const std::vector<Eigen::Vector2d>& v2,
+                                                   const std::vector<Eigen::Vector2d>& raw2, const std::vector<std::size_t>& index,
+                                                   const std::vector<char>& fit, const Eigen::Matrix3d& R,
+                                                   Classification* c) const {
+  std::vector<Eigen::Vector3d> b1, b2;
+  for (std::size_t k = 0; k < all_b1.size(); ++k)
+    if (fit[k]) b1.push_back(all_b1[k]), b2.push_back(all_b2[k]);
+  const double f = fx_;  // pixels per radian (see classify_spherical)
+  KnownRotationOptions ko;
+  ko.inlier_angle_rad = options_.ransac_threshold_px / f;
+  ko.confidence = options_.ransac_confidence;
+  ko.max_iterations = options_.ransac_max_iterations;
+  ko.min_inliers = options_.min_matches;
+  ko.pure_rotation_share = options_.pure_rotation_share;
+  ko.refit = options_.refit_on_inliers;
+  ko.refine = options_.refine_essential;
+  ko.refine_angle_rad = options_.threshold_px / f;
+  ko.cauchy_scale_rad = options_.ransac_threshold_px / f;
+  ko.rotation_prior_sigma_rad = options_.rotation_prior_sigma_rad;
+  const KnownRotationModel model = fit_known_rotation(b1, b2, R, ko);
+  if (model.status != KnownRotationStatus::kTranslation && model.status != KnownRotationStatus::kPureRotation) return false;
+  const bool pure = model.status == KnownRotationStatus::kPureRotation;
+  c->motion_model = pure ? MotionModel::kPureRotation : MotionModel::kKnownRotation;
+  c->R = model.R, c->t = model.t;
+  Eigen::Matrix3d tx;
+  tx << 0, -model.t.z(), model.t.y(), model.t.z(), 0, -model.t.x(), -model.t.y(), model.t.x(), 0;
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
+  K(0, 0) = fx_, K(1, 1) = fy_, K(0, 2) = cx_, K(1, 2) = cy_;
+  const Eigen::Matrix3d Kinv = K.inverse();
+  c->F = Kinv.transpose() * tx * model.R * Kinv;  // zero under pure rotation (no epipolar line)
+  const bool sph = spherical();
+  for (std::size_t k = 0; k < all_b1.size(); ++k) {
+    // Spherical: f · the angle to the epipolar plane (pure rotation: to R b1); pinhole: the
+    // virtual-pinhole distance mapped to raw pixels, as for an estimated F.
+    const double d = sph    ? f * known_rotation_angle(model.R, model.t, all_b1[k], all_b2[k])
+                     : pure ? rotation_distance(model.R, all_b1[k], v2[k], raw2[k])
+                            : pinhole_distance(c->F, v1[k], v2[k], raw2[k]);
+    c->distance_px[index[k]] = d;
+    c->flags[index[k]] = d > options_.threshold_px ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
+  }
+  return true;
+}
+
 double DynamicFeatureFilter::epipolar_distance(const Classification& c, const Eigen::Vector2d& raw1,
                                                const Eigen::Vector2d& raw2) const {
   Eigen::Vector2d a, b;
   if (c.status != ClassificationStatus::kEpipolar || !undistort(raw1, &a) || !undistort(raw2, &b))
     return std::numeric_limits<double>::quiet_NaN();
+  if (c.motion_model == MotionModel::kKnownRotation || c.motion_model == MotionModel::kPureRotation) {
+    Eigen::Vector3d u, v;
+    if (!camera_->unproject(raw1, &u) || !camera_->unproject(raw2, &v)) return std::numeric_limits<double>::quiet_NaN();
+    if (c.motion_model == MotionModel::kPureRotation && !spherical()) return rotation_distance(c.R, u.normalized(), b, raw2);
+    if (!spherical()) return pinhole_distance(c.F, a, b, raw2);
+    return fx_ * known_rotation_angle(c.R, c.t, u, v);
+  }
   if (!spherical()) return pinhole_distance(c.F, a, b, raw2);
   Eigen::Matrix3d K = Eigen::Matrix3d::Identity();  // c.F = K⁻ᵀ E K⁻¹, so E = Kᵀ F K (up to scale)
   K(0, 0) = fx_, K(1, 1) = fy_, K(0, 2) = cx_, K(1, 2) = cy_;

@@ -47,7 +47,7 @@ FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int h
   return h >= (was_dynamic ? 1 : hits) ? FeatureMotion::kDynamic : FeatureMotion::kStatic;
 }
 
-FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
+FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::Matrix3d* R_cur_prev) {
   FrontendFrameResult out;
   const auto t0 = std::chrono::steady_clock::now();
   out.tracking = tracker_.track(frame);
@@ -95,7 +95,13 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
       }
     }
     const DynamicFeatureFilter& filter = b > 1 ? filter_long_ : filter_;
-    Classification c = filter.classify(p1, p2, options_.trusted_model ? &trusted : nullptr);
+    // The rotation over the b frames: R_{t,t−b} = R_{t,t−1} R_{t−1,t−2} ⋯ R_{t−b+1,t−b}.
+    std::optional<Eigen::Matrix3d> R;
+    if (options_.filter.known_rotation && R_cur_prev && b - 1 <= static_cast<int>(rotations_.size())) {
+      R = *R_cur_prev;
+      for (int j = 0; j + 1 < b && R; ++j) R = rotations_[j] ? std::optional<Eigen::Matrix3d>(*R * *rotations_[j]) : std::nullopt;
+    }
+    Classification c = filter.classify(p1, p2, options_.trusted_model ? &trusted : nullptr, R ? &*R : nullptr);
     if (options_.epipolar_search.enabled && b <= static_cast<int>(frames_.size())) {
       std::vector<char> tested(index.size());  // only the features whose flag this test sets
       for (std::size_t m = 0; m < index.size(); ++m) tested[m] = baseline[index[m]] == b;
@@ -105,7 +111,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
         if (s.refound[m]) uv_now[index[m]] = p2[m], moved = true;
       out.n_refound_epipolar += s.refound_count;
     }
-    if (b == longest) out.status = c.status;
+    if (b == longest) out.status = c.status, out.motion_model = c.motion_model;
     for (std::size_t m = 0; m < index.size(); ++m) {
       FrontendFeature& f = out.features[index[m]];
       if (b == 1) f.distance_1_px = c.distance_px[m];
@@ -206,6 +212,8 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame) {
   for (const TrackedFeature& f : tracked) now.emplace(f.id, f.uv);
   history_.push_front(std::move(now));
   while (static_cast<int>(history_.size()) > k) history_.pop_back();
+  rotations_.push_front(R_cur_prev ? std::optional<Eigen::Matrix3d>(*R_cur_prev) : std::nullopt);
+  while (static_cast<int>(rotations_.size()) > k) rotations_.pop_back();
   if (keep_frames()) {
     frames_.push_front(frame);
     while (static_cast<int>(frames_.size()) > k) frames_.pop_back();

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "slamkit/core/error.h"
+#include "slamkit/factors/imu_preintegration.h"
 #include "slamkit/vio/image_io.h"
 
 namespace slamkit {
@@ -25,6 +26,34 @@ LabelImage to_label_image(const GrayImage& g) {
 }
 
 }  // namespace
+
+std::vector<std::optional<Eigen::Matrix3d>> gyro_camera_rotations(const VisualInertialSim& sim, const Eigen::Vector3d& gyro_bias) {
+  std::vector<std::optional<Eigen::Matrix3d>> out(sim.frames.size());
+  const Eigen::Matrix3d R_ci = sim.T_cam_imu.rotation().matrix();
+  const ImuNoise noise{sim.imu_noise.gyro_noise_density, sim.imu_noise.accel_noise_density, sim.imu_noise.gyro_random_walk,
+                       sim.imu_noise.accel_random_walk};
+  std::size_t first = 0;  // the last IMU sample at or before the previous frame
+  for (std::size_t k = 1; k < sim.frames.size(); ++k) {
+    const double t0 = sim.frames[k - 1].t, t1 = sim.frames[k].t;
+    while (first + 1 < sim.imu.size() && sim.imu[first + 1].t <= t0) ++first;
+    std::vector<ImuMeasurement> samples;
+    for (std::size_t i = first; i < sim.imu.size(); ++i) {
+      ImuMeasurement m;
+      m.stamp = sim.imu[i].t, m.gyro = sim.imu[i].gyro, m.accel = sim.imu[i].accel;
+      samples.push_back(m);
+      if (sim.imu[i].t >= t1) break;
+    }
+    try {
+      ImuPreintegration pim(ImuBias{gyro_bias, Eigen::Vector3d::Zero()}, noise);
+      pim.integrate_between(samples, t0, t1);
+      const Eigen::Matrix3d dR = pim.delta_R().matrix();  // R_{i_{k−1}}ᵀ R_{i_k}
+      out[k] = R_ci * dR.transpose() * R_ci.transpose();
+    } catch (const std::invalid_argument&) {
+      // the IMU does not cover this interval: no rotation for frame k
+    }
+  }
+  return out;
+}
 
 std::map<int, double> walker_speeds(const RenderedScene& scene) {
   std::map<int, double> speeds;
@@ -112,6 +141,8 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
   VisualInertialSim out = sim;
   out.landmarks.clear();  // the tracks are not the simulator's landmarks
   out.pixel_noise_sigma = options.pixel_sigma;
+  std::vector<std::optional<Eigen::Matrix3d>> rotations;  // gyroscope, for the IMU-aided epipolar model
+  if (options.frontend.filter.known_rotation) rotations = gyro_camera_rotations(sim);
   GrayImage image, labels;
   std::deque<LabelImage> label_history;  // front: frame k
   double m_sum = 0.0, features = 0.0;
@@ -123,7 +154,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
     FrontendFrameResult f;
     const std::clock_t cpu0 = std::clock();
     try {
-      f = frontend.process(image);
+      f = frontend.process(image, k < rotations.size() && rotations[k] ? &*rotations[k] : nullptr);
       r.frontend_cpu_s += static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     } catch (const std::invalid_argument& e) {
       throw InputError(sim.source, 0, "image", "frame " + std::to_string(k) + ": " + e.what());
@@ -170,6 +201,11 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       r.frames_too_few_matches += f.status == ClassificationStatus::kTooFewMatches;
       r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
       r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
+      if (f.status == ClassificationStatus::kEpipolar) {
+        r.frames_known_rotation += f.motion_model == MotionModel::kKnownRotation;
+        r.frames_pure_rotation += f.motion_model == MotionModel::kPureRotation;
+        r.frames_rotation_rejected += f.motion_model == MotionModel::kRotationRejected;
+      }
     }
     if (progress) progress(k, sim.frames.size());
   }

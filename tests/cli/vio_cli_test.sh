@@ -52,6 +52,11 @@ for range in "--score-min-distance 7 --score-max-distance 3" "--score-max-distan
   "$slamkit" vio --sim room1 --duration 1 --images --data "$data" $range >"$work/e6.txt" 2>&1
   [[ $? -eq 1 ]] && grep -q "score_min_distance_m" "$work/e6.txt" || fail "distance range $range: $(cat "$work/e6.txt")"
 done
+# --imu-rotation takes on or off; a negative rotation prior is refused (usage error, exit 2).
+"$slamkit" vio --sim room1 --duration 1 --images --data "$data" --imu-rotation maybe >"$work/e8.txt" 2>&1
+[[ $? -eq 2 ]] && grep -q -- "--imu-rotation" "$work/e8.txt" || fail "--imu-rotation maybe: $(cat "$work/e8.txt")"
+"$slamkit" vio --sim room1 --duration 1 --images --data "$data" --rotation-prior-sigma -1 >"$work/e8.txt" 2>&1
+[[ $? -eq 2 ]] && grep -q -- "--rotation-prior-sigma" "$work/e8.txt" || fail "--rotation-prior-sigma -1: $(cat "$work/e8.txt")"
 # An unknown name, a run too short to initialize, a calibration file without a needed field.
 "$slamkit" vio --sim room9 --data "$data" >"$work/e3.txt" 2>&1
 [[ $? -eq 1 ]] && grep -q "euroc:V1_01" "$work/e3.txt" || fail "unknown sequence: $(cat "$work/e3.txt")"

@@ -30,6 +30,9 @@
 // whose tracks are new or flagged, cannot take over the RANSAC.
 // Epipolar re-search (epipolar_search): each test's dynamic flags are re-searched along the
 // epipolar line in that test's frame pair; a re-found feature is static and its track moves.
+// IMU-aided model (filter.known_rotation, session 28): process() may be given the camera's rotation
+// since the previous frame (e.g. from the gyroscope); a test over b frames is given the product of
+// the last b of them (none if one is missing) and fits only the translation direction.
 // M = static / (static + dynamic) over the features of the frame.
 #pragma once
 
@@ -38,6 +41,7 @@
 #include <deque>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -104,6 +108,7 @@ struct FrontendFrameResult {
   int n_refound_epipolar = 0;     ///< dynamic flags withdrawn by the epipolar re-search
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
+  MotionModel motion_model = MotionModel::kEstimated;  ///< of the longest baseline run this frame
   double tracking_ms = 0.0, classification_ms = 0.0;  ///< wall clock
 };
 
@@ -114,7 +119,9 @@ class ImageFrontend {
   ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const CameraModel> camera, GrayImage mask = {});
   /// Tracks and classifies the next frame. Throws std::invalid_argument on an empty frame or one
   /// whose size differs from the previous one (FeatureTracker).
-  FrontendFrameResult process(const GrayImage& frame);
+  /// R_cur_prev (optional): the camera's rotation from the previous frame to this one (x_cur = R x_prev + t),
+  /// used by the tests when options().filter.known_rotation is set.
+  FrontendFrameResult process(const GrayImage& frame, const Eigen::Matrix3d* R_cur_prev = nullptr);
   const ImageFrontendOptions& options() const { return options_; }
 
  private:
@@ -124,6 +131,8 @@ class ImageFrontend {
   DynamicFeatureFilter filter_long_;  ///< baseline k (threshold · k^e)
   /// history_[j]: positions of the features tracked in frame t − 1 − j (j < k).
   std::deque<std::unordered_map<std::int64_t, Eigen::Vector2d>> history_;
+  /// rotations_[j]: R from frame t − 2 − j to frame t − 1 − j (R_cur_prev of frame t − 1 − j), if given.
+  std::deque<std::optional<Eigen::Matrix3d>> rotations_;
   std::deque<GrayImage> frames_;  ///< frames_[j]: frame t − 1 − j (only with the appearance check or re-search)
   bool keep_frames() const { return options_.min_patch_ncc_baseline > -1.0 || options_.epipolar_search.enabled; }
   std::unordered_set<std::int64_t> flagged_dynamic_;

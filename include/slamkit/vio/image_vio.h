@@ -17,7 +17,9 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "slamkit/core/parallel.h"
 #include "slamkit/sim/image_renderer.h"
@@ -29,6 +31,9 @@
 namespace slamkit {
 
 struct ImageVioOptions {
+  /// With frontend.filter.known_rotation the front end is given each frame's rotation from the
+  /// gyroscope (gyro_camera_rotations, bias zero: the front end runs before the window, whose bias
+  /// estimate is not known yet; the simulator's gyro bias, σ 0.002 rad/s, turns a 4-frame test by ≤ 0.1 px).
   ImageFrontendOptions frontend;
   /// σ of the front end's pixels in the estimator [px] (KLT tracks; replaces the simulator's).
   double pixel_sigma = 1.0;
@@ -54,6 +59,8 @@ struct ImageVioReport {
   double static_ratio_mean = 1.0, static_ratio_min = 1.0;
   std::size_t frames = 0;
   std::size_t frames_too_few_matches = 0, frames_no_fundamental = 0, frames_static_camera = 0;
+  /// Frames by the motion model of their longest test (DynamicFeatureFilter's MotionModel, status kEpipolar).
+  std::size_t frames_known_rotation = 0, frames_pure_rotation = 0, frames_rotation_rejected = 0;
   double features_per_frame = 0.0;
   double image_ms_per_frame = 0.0;      ///< rendering (or reading the PNGs), wall clock
   double tracking_ms_per_frame = 0.0, classification_ms_per_frame = 0.0;
@@ -79,6 +86,13 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
                                const std::map<int, double>& label_speed_mps, const ObjectDistances& object_distance_m,
                                const ImageVioOptions& options, ImageVioReport* report,
                                const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// Per frame k ≥ 1 of the run: the camera's rotation from frame k − 1 to frame k, R_{c_k c_{k−1}}
+/// (x_{c_k} = R x_{c_{k−1}} + t), from the gyroscope: ΔR = R_{i_{k−1}}ᵀ R_{i_k} by the midpoint
+/// preintegration (factors/imu_preintegration.h) at gyro_bias, then R = R_ci ΔRᵀ R_ic with R_ci
+/// the rotation of T_cam_imu. Entry 0, and frames whose interval the IMU does not cover: empty.
+std::vector<std::optional<Eigen::Matrix3d>> gyro_camera_rotations(const VisualInertialSim& sim,
+                                                                  const Eigen::Vector3d& gyro_bias = Eigen::Vector3d::Zero());
 
 /// Object id -> speed of the scene's walkers (the scoring's speed map).
 std::map<int, double> walker_speeds(const RenderedScene& scene);
