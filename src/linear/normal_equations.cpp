@@ -29,9 +29,25 @@ void add_at_b_rows2(const double* a, const double* b, double* dest, int ld) {
   }
 }
 
-void add_at_b(const double* a, const double* b, double* dest, int rows, int di, int dj, int ld) {
+// The 2D pose-graph shapes (3 residual rows of 3-dimensional variables, SE2): dest(i, j) +=
+// Σ_r A(r, i) B(r, j), summed in r order (Eigen's order: the same bits), as plain loops that
+// unroll into straight-line code, out of line so that these calls do not pay the large frame of
+// add_at_b_other. (For 6×6 Eigen's vectorized product is faster: 1.3 % fewer instructions on
+// parking-garage than these loops.)
+template <int R, int DI, int DJ>
+[[gnu::noinline]] void add_at_b_small(const double* a, const double* b, double* dest, int ld) {
+  for (int j = 0; j < DJ; ++j) {
+    double* d = dest + static_cast<std::ptrdiff_t>(j) * ld;
+    for (int i = 0; i < DI; ++i) {
+      double s = a[i * R] * b[j * R];
+      for (int r = 1; r < R; ++r) s += a[i * R + r] * b[j * R + r];
+      d[i] += s;
+    }
+  }
+}
+
+[[gnu::noinline]] void add_at_b_other(const double* a, const double* b, double* dest, int rows, int di, int dj, int ld) {
   if (rows == 6 && di == 6 && dj == 6) return add_at_b_fixed<6, 6, 6>(a, b, dest, ld);
-  if (rows == 3 && di == 3 && dj == 3) return add_at_b_fixed<3, 3, 3>(a, b, dest, ld);
   if (rows == 2 && di == 3 && dj == 2) return add_at_b_fixed<2, 3, 2>(a, b, dest, ld);
   if (rows == 3 && di == 6 && dj == 3) return add_at_b_fixed<3, 6, 3>(a, b, dest, ld);
   if (rows == 2 && di == 2 && dj == 2) return add_at_b_fixed<2, 2, 2>(a, b, dest, ld);
@@ -46,6 +62,14 @@ void add_at_b(const double* a, const double* b, double* dest, int rows, int di, 
   const Eigen::Map<const Eigen::MatrixXd> A(a, rows, di), B(b, rows, dj);
   Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(dest, di, dj, Eigen::OuterStride<>(ld));
   D.noalias() += A.transpose() * B;
+}
+
+inline void add_at_b(const double* a, const double* b, double* dest, int rows, int di, int dj, int ld) {
+  if (rows == 3 && di == 3) {
+    if (dj == 3) return add_at_b_small<3, 3, 3>(a, b, dest, ld);
+    if (dj == 1) return add_at_b_small<3, 3, 1>(a, b, dest, ld);
+  }
+  add_at_b_other(a, b, dest, rows, di, dj, ld);
 }
 
 // Parallel grains: below these sizes a phase costs less than waking the pool's worker and

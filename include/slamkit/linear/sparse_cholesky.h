@@ -65,7 +65,7 @@ class SparseCholesky {
   virtual void analyze(const BlockSparseMatrix& A, const EliminationOrder* block_order = nullptr) = 0;
   /// analyze(A) in stored order, adopting `shared` when it was made for A's block pattern (the
   /// pattern is compared; otherwise it is analyzed). Backends that cannot share analyze.
-  virtual void analyze_sharing(const BlockSparseMatrix& A, const SharedSymbolic& shared) { analyze(A); }
+  virtual void analyze_sharing(const BlockSparseMatrix& A, const SharedSymbolic& /*shared*/) { analyze(A); }
   /// The pattern analysis of the last analyze, for another system over the same block pattern;
   /// null when it is not shareable (supernodal, permuted, the Eigen fallback).
   virtual SharedSymbolic shared_symbolic() const { return nullptr; }
