@@ -162,6 +162,8 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
     }
     r.frontend_s += (f.tracking_ms + f.classification_ms) * 1e-3;
     r.tracking_ms_per_frame += f.tracking_ms, r.classification_ms_per_frame += f.classification_ms;
+    r.tracked_per_frame += f.tracking.tracked, r.lost_klt_per_frame += f.tracking.lost_klt;
+    r.lost_forward_backward_per_frame += f.tracking.lost_forward_backward;
     std::vector<SimObservation>& obs = out.frames[k].observations;
     obs.clear();
     for (const FrontendFeature& x : f.features) {
@@ -217,6 +219,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
   r.features_per_frame = features / n;
   r.image_ms_per_frame = 1e3 * r.image_s / n;
   r.tracking_ms_per_frame /= n, r.classification_ms_per_frame /= n;
+  r.tracked_per_frame /= n, r.lost_klt_per_frame /= n, r.lost_forward_backward_per_frame /= n;
   if (report) {
     r.image_source = report->image_source;
     *report = r;
