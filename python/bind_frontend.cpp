@@ -53,6 +53,7 @@ struct FrontendFrame {
   double static_ratio = 1.0, tracking_ms = 0.0, classification_ms = 0.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0, tracked = 0, detected = 0;
   std::string status, motion_model;
+  bool gyro_seeded = false;
 };
 
 FrontendFrame to_frame(const FrontendFrameResult& r) {
@@ -76,6 +77,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.tracked = r.tracking.tracked, f.detected = r.tracking.detected;
   f.status = to_string(r.status);
   f.motion_model = to_string(r.motion_model);
+  f.gyro_seeded = r.tracking.gyro_seeded;
   return f;
 }
 
@@ -103,7 +105,7 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T EpipolarSear
 const std::vector<const char*> kOptionFields = {
     "max_features", "min_distance_px", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
     "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "known_rotation",
-    "rotation_prior_sigma_rad", "pure_rotation_share", "baseline_frames",
+    "rotation_prior_sigma_rad", "pure_rotation_share", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc"};
 
@@ -150,6 +152,16 @@ void init_frontend(py::module_& m) {
   field(opt, "epipolar_search_ncc_drop", &EpipolarSearchOptions::max_ncc_drop,
         "re-found iff its patch NCC >= the track's minus this");
   field(opt, "epipolar_search_min_ncc", &EpipolarSearchOptions::min_ncc, "and its patch NCC >= this");
+  opt.def_property(
+      "gyro_klt", [](const ImageFrontendOptions& o) { return std::string(gyro_klt_name(o.tracker.gyro_klt)); },
+      [](ImageFrontendOptions& o, const std::string& v) {
+        try {
+          o.tracker.gyro_klt = parse_gyro_klt(v);
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+      },
+      "KLT seeded by the rotation given to process(): 'off', 'seed' ('on') or 'candidate'");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")
       .def_readwrite("consistency_checks", &ImageFrontendOptions::consistency_checks)
       .def_readwrite("consistency_hits", &ImageFrontendOptions::consistency_hits)
@@ -175,6 +187,7 @@ void init_frontend(py::module_& m) {
       .def_readonly("status", &FrontendFrame::status)
       .def_readonly("motion_model", &FrontendFrame::motion_model,
                     "estimated, known_rotation, pure_rotation or rotation_rejected (the longest test's model)")
+      .def_readonly("gyro_seeded", &FrontendFrame::gyro_seeded, "KLT was seeded by the given rotation (gyro_klt)")
       .def_readonly("tracking_ms", &FrontendFrame::tracking_ms)
       .def_readonly("classification_ms", &FrontendFrame::classification_ms)
       .def("__repr__", [](const FrontendFrame& f) {
@@ -211,7 +224,7 @@ void init_frontend(py::module_& m) {
           },
           py::arg("image"), py::arg("rotation") = py::none(),
           "Tracks and classifies the next frame (2-D uint8). rotation (3x3, optional): the camera's rotation from "
-          "the previous frame to this one (x_cur = R x_prev + t), used with known_rotation. ValueError if the "
+          "the previous frame to this one (x_cur = R x_prev + t), used with known_rotation and gyro_klt. ValueError if the "
           "frame's size differs from the previous frame's or the mask's.")
       .def_property_readonly("options", &ImageFrontend::options);
 

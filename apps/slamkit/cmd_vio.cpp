@@ -271,6 +271,11 @@ void add_vio_command(CLI::App& app) {
          "--imu-rotation", [o](const std::string& v) { o->image.vio.frontend.filter.known_rotation = v == "on"; },
          "with --images: epipolar test with the gyroscope's rotation, only the translation fitted (2-point RANSAC) [on]")
       ->check(CLI::IsMember({"on", "off"}));
+  sub->add_option_function<std::string>(
+         "--gyro-klt", [o](const std::string& v) { o->image.vio.frontend.tracker.gyro_klt = parse_gyro_klt(v); },
+         "with --images: seed KLT with the gyroscope's rotation (infinite-depth prediction): off, seed (= on: "
+         "replaces the zero-flow start) or candidate (added to the zero-flow and median-flow starts) [off]")
+      ->check(CLI::IsMember({"on", "off", "seed", "candidate"}));
   sub->add_option("--rotation-prior-sigma", o->image.vio.frontend.filter.rotation_prior_sigma_rad,
                   "with --imu-rotation on and --refine-essential: sigma of the prior letting the refinement move R "
                   "(rad; 0: R held)")->check(CLI::NonNegativeNumber)->capture_default_str();

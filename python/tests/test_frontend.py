@@ -128,3 +128,40 @@ def test_epipolar_search_options():
     assert "epipolar_search=True" in repr(o)
     with pytest.raises(ValueError):
         sk.ImageFrontend(epipolar_search=True, epipolar_search_ncc_drop=-1.0)
+
+
+CAMCHAIN = """cam0:
+  T_cam_imu:
+    - [1.0, 0.0, 0.0, 0.0]
+    - [0.0, 1.0, 0.0, 0.0]
+    - [0.0, 0.0, 1.0, 0.0]
+    - [0.0, 0.0, 0.0, 1.0]
+  camera_model: pinhole
+  distortion_coeffs: [0.0034823894022493434, 0.0007150348452162257, -0.0020532361418706202, 0.00020293673591811182]
+  distortion_model: equidistant
+  intrinsics: [190.97847715128717, 190.9733070521226, 254.93170605935475, 256.8974428996504]
+  resolution: [512, 512]
+"""
+
+
+def test_gyro_klt_option_and_fallback(tmp_path):
+    o = sk.FrontendOptions()
+    assert o.gyro_klt == "off"
+    o = sk.FrontendOptions(gyro_klt="on")
+    assert o.gyro_klt == "seed" and "gyro_klt=" in repr(o)
+    with pytest.raises(ValueError):
+        sk.FrontendOptions(gyro_klt="yes")
+    calib = tmp_path / "camchain.yaml"
+    calib.write_text(CAMCHAIN)
+    rng = np.random.default_rng(1)
+    image = np.kron(rng.integers(0, 255, size=(64, 64)), np.ones((8, 8))).astype(np.uint8)  # 8-px blocks: corners
+    yaw = np.array([[np.cos(0.02), 0, np.sin(0.02)], [0, 1, 0], [-np.sin(0.02), 0, np.cos(0.02)]])
+    seeded = sk.ImageFrontend(sk.FrontendOptions(gyro_klt="seed"), calib=str(calib))
+    no_camera = sk.ImageFrontend(sk.FrontendOptions(gyro_klt="seed"))
+    for f in (seeded, no_camera):
+        assert f.process(image, rotation=np.eye(3)).gyro_seeded is False  # nothing tracked yet
+    assert seeded.process(image, rotation=yaw).gyro_seeded is True
+    assert no_camera.process(image, rotation=yaw).gyro_seeded is False  # no camera model: unseeded
+    bad = yaw * 2.0  # not a rotation: unseeded, no error
+    frame = seeded.process(image, rotation=bad)
+    assert frame.gyro_seeded is False and frame.tracked > 0

@@ -2,6 +2,7 @@
 // (see the header). OpenCV stays inside this file.
 #include "slamkit/vio/feature_tracker.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,6 +10,8 @@
 #include <opencv2/video/tracking.hpp>
 #include <stdexcept>
 #include <string>
+
+#include "slamkit/geometry/camera_models.h"
 
 namespace slamkit {
 
@@ -23,7 +26,35 @@ void check_image(const GrayImage& image, const char* what) {
     throw std::invalid_argument(std::string("feature tracker: ") + what + " is empty or its pixel count is not width x height");
 }
 
+bool is_rotation(const Eigen::Matrix3d& R) {
+  return R.allFinite() && (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0.0;
+}
+
 }  // namespace
+
+const char* gyro_klt_name(GyroKlt mode) {
+  switch (mode) {
+    case GyroKlt::kSeed: return "seed";
+    case GyroKlt::kCandidate: return "candidate";
+    default: return "off";
+  }
+}
+
+GyroKlt parse_gyro_klt(const std::string& name) {
+  if (name == "off") return GyroKlt::kOff;
+  if (name == "seed" || name == "on") return GyroKlt::kSeed;
+  if (name == "candidate") return GyroKlt::kCandidate;
+  throw std::invalid_argument("gyro_klt must be off, seed (on) or candidate, not '" + name + "'");
+}
+
+bool predict_by_rotation(const CameraModel& camera, const Eigen::Matrix3d& R_cur_prev, const Eigen::Vector2d& uv,
+                         Eigen::Vector2d* out) {
+  Eigen::Vector3d bearing;  // a point at infinity moves with the rotation only: p' = π(R π⁻¹(p))
+  Eigen::Vector2d p;
+  if (!camera.unproject(uv, &bearing) || !camera.project(R_cur_prev * bearing, &p) || !p.allFinite()) return false;
+  *out = p;
+  return true;
+}
 
 double patch_ncc(const GrayImage& a, const Eigen::Vector2d& pa, const GrayImage& b, const Eigen::Vector2d& pb, int half) {
   auto inside = [half](const GrayImage& g, const Eigen::Vector2d& p) {
@@ -76,7 +107,8 @@ struct FeatureTracker::State {
   std::int64_t next_id = 0;
 };
 
-FeatureTracker::FeatureTracker(FeatureTrackerOptions o, GrayImage mask) : options_(o), state_(std::make_unique<State>()) {
+FeatureTracker::FeatureTracker(FeatureTrackerOptions o, GrayImage mask, std::shared_ptr<const CameraModel> camera)
+    : options_(o), camera_(std::move(camera)), state_(std::make_unique<State>()) {
   if (o.max_features < 1) throw std::invalid_argument("feature tracker: max_features must be >= 1");
   if (!(o.min_distance_px >= 0.0)) throw std::invalid_argument("feature tracker: min_distance_px must be >= 0");
   if (!(o.quality_level > 0.0 && o.quality_level < 1.0)) throw std::invalid_argument("feature tracker: quality_level must be in (0, 1)");
@@ -108,7 +140,7 @@ void FeatureTracker::relocate(const std::vector<std::int64_t>& ids, const std::v
       if (t.id == ids[k]) t.uv = uv[k];
 }
 
-TrackingResult FeatureTracker::track(const GrayImage& frame) {
+TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix3d* R_cur_prev) {
   check_image(frame, "the frame");
   State& s = *state_;
   const FeatureTrackerOptions& o = options_;
@@ -130,39 +162,60 @@ TrackingResult FeatureTracker::track(const GrayImage& frame) {
   if (!s.features.empty() && !s.prev_pyramid.empty()) {
     std::vector<cv::Point2f> p0, p1, p0_back;
     for (const TrackedFeature& f : s.features) p0.emplace_back(float(f.uv.x()), float(f.uv.y()));
+    // Gyro seed: the infinite-depth prediction of each feature (zero flow where it fails).
+    std::vector<cv::Point2f> predicted = p0;
+    r.gyro_seeded = o.gyro_klt != GyroKlt::kOff && camera_ && R_cur_prev && is_rotation(*R_cur_prev);
+    if (r.gyro_seeded)
+      for (std::size_t i = 0; i < p0.size(); ++i) {
+        Eigen::Vector2d q;
+        if (!predict_by_rotation(*camera_, *R_cur_prev, s.features[i].uv, &q)) continue;
+        predicted[i] = cv::Point2f(float(q.x()), float(q.y()));
+        ++r.predicted;
+      }
+    const bool seed = r.gyro_seeded && o.gyro_klt == GyroKlt::kSeed;
     std::vector<uchar> status, status_back;
     std::vector<float> err;
     const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, o.klt_max_iterations, o.klt_epsilon);
-    cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, p1, status, err, window, o.klt_pyramid_levels, term);
-    // Large motion: KLT started at zero flow may lock onto a repeated texture motif. Track again
-    // from the median flow and keep, per feature, the candidate with the lower patch residual.
+    // KLT from the initial positions q1 (in place); each feature keeps the better of its current
+    // candidate (p1, status, err) and the new one, or is lost if both converge, lie more than
+    // ambiguity_px apart and have residuals within ambiguity_ratio (two motifs of a repeated texture fit).
+    const auto candidate = [&](std::vector<cv::Point2f> q1) {
+      std::vector<uchar> status2;
+      std::vector<float> err2;
+      cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, q1, status2, err2, window, o.klt_pyramid_levels, term,
+                               cv::OPTFLOW_USE_INITIAL_FLOW);
+      for (std::size_t i = 0; i < p0.size(); ++i) {
+        const bool both = status[i] && status2[i];
+        if (both && o.ambiguity_px > 0.0 && cv::norm(p1[i] - q1[i]) > o.ambiguity_px &&
+            std::min(err[i], err2[i]) > float(o.ambiguity_ratio) * std::max(err[i], err2[i])) {
+          status[i] = 0;  // ambiguous
+          continue;
+        }
+        if (status2[i] && (!status[i] || err2[i] < err[i])) p1[i] = q1[i], status[i] = 1, err[i] = err2[i];
+      }
+    };
+    p1 = seed ? predicted : p0;
+    cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, p1, status, err, window, o.klt_pyramid_levels, term,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    const std::vector<cv::Point2f>& start = seed ? predicted : p0;  // the first pass's seeds
+    // Large motion: KLT started at zero flow (or at the prediction) may lock onto a repeated
+    // texture motif. Track again from the median flow (relative to the start) as another candidate.
     if (o.median_flow_retry_px > 0.0) {
       std::vector<float> fx, fy;
       for (std::size_t i = 0; i < p0.size(); ++i)
-        if (status[i]) fx.push_back(p1[i].x - p0[i].x), fy.push_back(p1[i].y - p0[i].y);
+        if (status[i]) fx.push_back(p1[i].x - start[i].x), fy.push_back(p1[i].y - start[i].y);
       if (!fx.empty()) {
         std::nth_element(fx.begin(), fx.begin() + fx.size() / 2, fx.end());
         std::nth_element(fy.begin(), fy.begin() + fy.size() / 2, fy.end());
         const cv::Point2f median(fx[fx.size() / 2], fy[fy.size() / 2]);
         if (cv::norm(median) > o.median_flow_retry_px) {
           std::vector<cv::Point2f> q1(p0.size());
-          for (std::size_t i = 0; i < p0.size(); ++i) q1[i] = p0[i] + median;
-          std::vector<uchar> status2;
-          std::vector<float> err2;
-          cv::calcOpticalFlowPyrLK(s.prev_pyramid, pyramid, p0, q1, status2, err2, window, o.klt_pyramid_levels, term,
-                                   cv::OPTFLOW_USE_INITIAL_FLOW);
-          for (std::size_t i = 0; i < p0.size(); ++i) {
-            const bool both = status[i] && status2[i];
-            if (both && o.ambiguity_px > 0.0 && cv::norm(p1[i] - q1[i]) > o.ambiguity_px &&
-                std::min(err[i], err2[i]) > float(o.ambiguity_ratio) * std::max(err[i], err2[i])) {
-              status[i] = 0;  // two motifs fit about equally well: ambiguous
-              continue;
-            }
-            if (status2[i] && (!status[i] || err2[i] < err[i])) p1[i] = q1[i], status[i] = 1, err[i] = err2[i];
-          }
+          for (std::size_t i = 0; i < p0.size(); ++i) q1[i] = start[i] + median;
+          candidate(std::move(q1));
         }
       }
     }
+    if (r.gyro_seeded && o.gyro_klt == GyroKlt::kCandidate) candidate(predicted);
     const bool fb = o.forward_backward_px > 0.0;
     if (fb) {
       p0_back = p0;  // initial guess: where the feature started

@@ -23,7 +23,7 @@ DynamicFilterOptions long_baseline_filter(const ImageFrontendOptions& o) {
 
 ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const CameraModel> camera, GrayImage mask)
     : options_(options),
-      tracker_(options.tracker, std::move(mask)),
+      tracker_(options.tracker, std::move(mask), camera),
       filter_(options.filter, camera),
       filter_long_(long_baseline_filter(options), camera) {
   if (options_.baseline_frames < 1) throw std::invalid_argument("ImageFrontend: baseline_frames must be >= 1");
@@ -50,7 +50,7 @@ FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int h
 FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::Matrix3d* R_cur_prev) {
   FrontendFrameResult out;
   const auto t0 = std::chrono::steady_clock::now();
-  out.tracking = tracker_.track(frame);
+  out.tracking = tracker_.track(frame, R_cur_prev);
   out.tracking_ms = ms_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   const int k = options_.baseline_frames;

@@ -141,8 +141,9 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
   VisualInertialSim out = sim;
   out.landmarks.clear();  // the tracks are not the simulator's landmarks
   out.pixel_noise_sigma = options.pixel_sigma;
-  std::vector<std::optional<Eigen::Matrix3d>> rotations;  // gyroscope, for the IMU-aided epipolar model
-  if (options.frontend.filter.known_rotation) rotations = gyro_camera_rotations(sim);
+  std::vector<std::optional<Eigen::Matrix3d>> rotations;  // gyroscope: IMU-aided epipolar model, KLT seed
+  if (options.frontend.filter.known_rotation || options.frontend.tracker.gyro_klt != GyroKlt::kOff)
+    rotations = gyro_camera_rotations(sim);
   GrayImage image, labels;
   std::deque<LabelImage> label_history;  // front: frame k
   double m_sum = 0.0, features = 0.0;
@@ -161,6 +162,8 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
     }
     r.frontend_s += (f.tracking_ms + f.classification_ms) * 1e-3;
     r.tracking_ms_per_frame += f.tracking_ms, r.classification_ms_per_frame += f.classification_ms;
+    r.tracked_per_frame += f.tracking.tracked, r.lost_klt_per_frame += f.tracking.lost_klt;
+    r.lost_forward_backward_per_frame += f.tracking.lost_forward_backward;
     std::vector<SimObservation>& obs = out.frames[k].observations;
     obs.clear();
     for (const FrontendFeature& x : f.features) {
@@ -198,6 +201,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
     if (k > 0) {  // the first frame has nothing to classify
       m_sum += f.static_ratio, ++m_frames;
       r.static_ratio_min = std::min(r.static_ratio_min, f.static_ratio);
+      r.frames_gyro_seeded += f.tracking.gyro_seeded;
       r.frames_too_few_matches += f.status == ClassificationStatus::kTooFewMatches;
       r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
       r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
@@ -215,6 +219,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
   r.features_per_frame = features / n;
   r.image_ms_per_frame = 1e3 * r.image_s / n;
   r.tracking_ms_per_frame /= n, r.classification_ms_per_frame /= n;
+  r.tracked_per_frame /= n, r.lost_klt_per_frame /= n, r.lost_forward_backward_per_frame /= n;
   if (report) {
     r.image_source = report->image_source;
     *report = r;

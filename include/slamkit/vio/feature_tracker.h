@@ -8,6 +8,14 @@
 //            its new position lies at least border_px inside the image; under large motion
 //            (median flow > median_flow_retry_px) KLT runs a second time from the median flow and
 //            each feature keeps the candidate with the lower photometric residual
+//   gyro seed   given the camera's rotation R_cur_prev (gyroscope) and the camera model, each
+//            feature's KLT starts at its infinite-depth prediction p' = π(R π⁻¹(p)) (the homography
+//            K R K⁻¹ through the distortion) instead of at p (VINS-Fusion, OpenVINS): the flow left
+//            to KLT is the translation's parallax only. kSeed replaces the zero-flow start (the median
+//            retry then runs on the flow relative to the prediction); kCandidate keeps the zero-flow
+//            and median-flow candidates and adds the predicted one (lowest residual wins, ambiguity
+//            rule as for the retry). No camera, no rotation or one that is not a finite rotation:
+//            the unseeded tracker, reported (TrackingResult::gyro_seeded = false)
 //   appearance  a track whose patch about its new position does not look like the patch about
 //            its old one (zero-mean NCC < min_patch_ncc) is lost: the corner is no surface point
 //            (an occlusion edge or a T-junction of surfaces at different depths, whose background
@@ -19,11 +27,20 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "slamkit/vio/gray_image.h"
 
 namespace slamkit {
+
+class CameraModel;
+
+/// How the gyroscope's rotation seeds KLT (see the header comment).
+enum class GyroKlt { kOff, kSeed, kCandidate };
+const char* gyro_klt_name(GyroKlt mode);  ///< "off", "seed", "candidate"
+/// "off", "seed" (alias "on"), "candidate"; std::invalid_argument otherwise.
+GyroKlt parse_gyro_klt(const std::string& name);
 
 struct FeatureTrackerOptions {
   int max_features = 150;         ///< features kept per frame (VINS-Mono's default)
@@ -55,7 +72,15 @@ struct FeatureTrackerOptions {
   /// (patch_ncc, half size patch_half_px) is below this is lost (lost_appearance); ≤ -1 disables it.
   double min_patch_ncc = -1.0;
   int patch_half_px = 7;          ///< NCC patch (2h+1)²
+  /// KLT seeded by the gyroscope's rotation (needs a camera model and a rotation per frame).
+  GyroKlt gyro_klt = GyroKlt::kOff;
 };
+
+/// The infinite-depth prediction of raw pixel uv after the camera rotates by R_cur_prev
+/// (x_cur = R x_prev): π(R π⁻¹(uv)). False (out untouched) if uv does not unproject or R·bearing
+/// does not project.
+bool predict_by_rotation(const CameraModel& camera, const Eigen::Matrix3d& R_cur_prev, const Eigen::Vector2d& uv,
+                         Eigen::Vector2d* out);
 
 /// Zero-mean normalized cross-correlation of the (2·half+1)² patches about pa in a and pb in b
 /// (bilinear samples, gain and bias invariant), in [-1, 1]; NaN if a patch leaves its image;
@@ -77,6 +102,8 @@ struct TrackingResult {
   int lost_border = 0;
   int lost_appearance = 0;   ///< patch NCC with the previous frame below min_patch_ncc
   int detected = 0;          ///< new corners this frame
+  bool gyro_seeded = false;  ///< KLT was seeded by the rotation this frame (gyro_klt on, rotation usable)
+  int predicted = 0;         ///< features whose seed is the rotation's prediction (the others: zero flow)
   /// The previous/current pixel pairs of the tracked features, the input of DynamicFeatureFilter.
   void matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eigen::Vector2d>* cur,
                std::vector<std::int64_t>* ids = nullptr) const;
@@ -86,14 +113,18 @@ class FeatureTracker {
  public:
   /// mask: empty (whole image usable) or the size of every frame, non-zero where corners may be
   /// detected. Throws std::invalid_argument on bad options.
-  explicit FeatureTracker(FeatureTrackerOptions options = {}, GrayImage mask = {});
+  /// camera: the images' model, needed by gyro_klt (without it the tracker is unseeded).
+  explicit FeatureTracker(FeatureTrackerOptions options = {}, GrayImage mask = {},
+                          std::shared_ptr<const CameraModel> camera = nullptr);
   ~FeatureTracker();
   FeatureTracker(FeatureTracker&&) noexcept;
   FeatureTracker& operator=(FeatureTracker&&) noexcept;
 
   /// Tracks the features into `frame` and refills them. Throws std::invalid_argument if the frame
   /// is empty, its size differs from the previous frame's, or the mask's size differs from it.
-  TrackingResult track(const GrayImage& frame);
+  /// R_cur_prev (optional): the camera's rotation from the previous frame to this one, used by
+  /// gyro_klt; null or not a finite rotation: unseeded.
+  TrackingResult track(const GrayImage& frame, const Eigen::Matrix3d* R_cur_prev = nullptr);
   /// Stops tracking the given ids (e.g. features classified dynamic); their neighbourhoods free up.
   void drop(const std::vector<std::int64_t>& ids);
   /// Moves tracked features to corrected positions in the current frame (e.g. re-found on their
@@ -104,6 +135,7 @@ class FeatureTracker {
  private:
   struct State;
   FeatureTrackerOptions options_;
+  std::shared_ptr<const CameraModel> camera_;
   std::unique_ptr<State> state_;
 };
 

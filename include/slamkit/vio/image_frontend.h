@@ -120,7 +120,8 @@ class ImageFrontend {
   /// Tracks and classifies the next frame. Throws std::invalid_argument on an empty frame or one
   /// whose size differs from the previous one (FeatureTracker).
   /// R_cur_prev (optional): the camera's rotation from the previous frame to this one (x_cur = R x_prev + t),
-  /// used by the tests when options().filter.known_rotation is set.
+  /// used by the tests when options().filter.known_rotation is set and by the tracker's gyro seed
+  /// (options().tracker.gyro_klt).
   FrontendFrameResult process(const GrayImage& frame, const Eigen::Matrix3d* R_cur_prev = nullptr);
   const ImageFrontendOptions& options() const { return options_; }
 

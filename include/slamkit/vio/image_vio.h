@@ -61,6 +61,10 @@ struct ImageVioReport {
   std::size_t frames_too_few_matches = 0, frames_no_fundamental = 0, frames_static_camera = 0;
   /// Frames by the motion model of their longest test (DynamicFeatureFilter's MotionModel, status kEpipolar).
   std::size_t frames_known_rotation = 0, frames_pure_rotation = 0, frames_rotation_rejected = 0;
+  std::size_t frames_gyro_seeded = 0;  ///< frames whose KLT was seeded by the gyroscope (tracker.gyro_klt)
+  /// Tracker counts per frame (means over the frames): tracks carried over, lost by KLT (status,
+  /// ambiguity) and by the forward-backward check.
+  double tracked_per_frame = 0.0, lost_klt_per_frame = 0.0, lost_forward_backward_per_frame = 0.0;
   double features_per_frame = 0.0;
   double image_ms_per_frame = 0.0;      ///< rendering (or reading the PNGs), wall clock
   double tracking_ms_per_frame = 0.0, classification_ms_per_frame = 0.0;
