@@ -9,9 +9,11 @@ std::size_t Values::num_fixed() const {
 }
 
 std::size_t Values::index_of(Key key) const {
-  const auto it = index_.find(key);
-  if (it == index_.end()) throw InputError("", 0, "key", "no variable " + key_to_string(key));
-  return it->second;
+  if (index_) {
+    const auto it = index_->find(key);
+    if (it != index_->end()) return it->second;
+  }
+  throw InputError("", 0, "key", "no variable " + key_to_string(key));
 }
 
 }  // namespace slamkit

@@ -5,9 +5,11 @@
 // access goes through ManifoldTraits<T>: insert<T>, at<T>, update<T>. Fixed variables
 // keep their value (gauge, known calibration) and get no column in the linear system.
 // Pointers returned by params() stay valid until the next insert().
-// Not thread-safe for writes; concurrent reads are fine.
+// Not thread-safe for writes; concurrent reads are fine (also of copies: they share only the
+// immutable key index).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -23,7 +25,7 @@ class Values {
   template <class T>
   void insert(Key key, const T& value) {
     const Manifold& m = ManifoldOf<T>::instance();
-    if (!index_.emplace(key, vars_.size()).second)
+    if (!own_index().emplace(key, vars_.size()).second)
       throw InputError("", 0, "key", "variable " + key_to_string(key) + " inserted twice");
     vars_.push_back({key, &m, data_.size(), false});
     data_.resize(data_.size() + m.ambient_dim());
@@ -46,10 +48,10 @@ class Values {
   void reserve(std::size_t variables, std::size_t params) {
     vars_.reserve(variables);
     data_.reserve(params);
-    index_.reserve(variables);
+    own_index().reserve(variables);
   }
 
-  bool exists(Key key) const { return index_.count(key) != 0; }
+  bool exists(Key key) const { return index_ && index_->count(key) != 0; }
   std::size_t size() const { return vars_.size(); }
   void set_fixed(Key key, bool fixed = true) { vars_[index_of(key)].fixed = fixed; }
   bool is_fixed(Key key) const { return vars_[index_of(key)].fixed; }
@@ -83,7 +85,15 @@ class Values {
 
   std::vector<Variable> vars_;
   std::vector<double> data_;
-  std::unordered_map<Key, std::size_t> index_;
+  // key → variable index. Copies share it until one of them inserts (copy on write): the
+  // optimizer's candidate iterate is a copy, and copying a hash map is a heap node per key.
+  using Index = std::unordered_map<Key, std::size_t>;
+  std::shared_ptr<Index> index_ = std::make_shared<Index>();
+  Index& own_index() {
+    if (!index_) index_ = std::make_shared<Index>();  // moved from
+    else if (index_.use_count() > 1) index_ = std::make_shared<Index>(*index_);
+    return *index_;
+  }
 };
 
 }  // namespace slamkit
