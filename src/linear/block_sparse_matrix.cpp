@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <string>
 #include <stdexcept>
 
 namespace slamkit {
@@ -9,10 +10,6 @@ namespace slamkit {
 BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<std::pair<int, int>> blocks)
     : block_dims_(std::move(block_dims)) {
   const int nb = num_blocks();
-  block_starts_.resize(nb + 1);
-  block_starts_[0] = 0;
-  for (int i = 0; i < nb; ++i) block_starts_[i + 1] = block_starts_[i] + block_dims_[i];
-  rows_ = block_starts_[nb];
 
   for (auto& [i, j] : blocks) {
     if (i < j) std::swap(i, j);  // lower triangle: i ≥ j
@@ -42,7 +39,23 @@ BlockSparseMatrix::BlockSparseMatrix(std::vector<int> block_dims, std::vector<st
     block_rows_.push_back(i);
   }
   for (int j = 0; j < nb; ++j) block_col_ptr_[j + 1] += block_col_ptr_[j];
+  lay_out_values();
+}
 
+BlockSparseMatrix::BlockSparseMatrix(const BlockSparseMatrix& pattern, std::vector<int> block_dims)
+    : block_dims_(std::move(block_dims)), block_col_ptr_(pattern.block_col_ptr_), block_rows_(pattern.block_rows_) {
+  if (num_blocks() != pattern.num_blocks())
+    throw std::invalid_argument("BlockSparseMatrix: " + std::to_string(num_blocks()) + " block sizes for a pattern of " +
+                                std::to_string(pattern.num_blocks()) + " blocks");
+  lay_out_values();
+}
+
+void BlockSparseMatrix::lay_out_values() {
+  const int nb = num_blocks();
+  block_starts_.resize(nb + 1);
+  block_starts_[0] = 0;
+  for (int i = 0; i < nb; ++i) block_starts_[i + 1] = block_starts_[i] + block_dims_[i];
+  rows_ = block_starts_[nb];
   // Every scalar column of block column j has the same row list, col_heights_[j] rows long.
   col_heights_.assign(nb, 0);
   std::size_t nnz = 0;

@@ -170,10 +170,13 @@ class PoseSystem {
   using Block = Eigen::Matrix<double, B, B>;
   using Rhs = Eigen::Matrix<double, B, Eigen::Dynamic, (B == 1 ? Eigen::RowMajor : Eigen::ColMajor), B, 3>;
 
-  PoseSystem(const PoseLayout& layout, int rhs, const InitOptions& o, InitSummary& summary)
+  /// same_pattern: a system over the same layout, whose block pattern is taken as is.
+  PoseSystem(const PoseLayout& layout, int rhs, const InitOptions& o, InitSummary& summary,
+             const BlockSparseMatrix* same_pattern = nullptr)
       : unknown_(layout.unknown), summary_(summary) {
     const auto t0 = std::chrono::steady_clock::now();
-    A_ = BlockSparseMatrix(std::vector<int>(layout.n, B), layout.pattern);
+    A_ = same_pattern ? BlockSparseMatrix(*same_pattern, std::vector<int>(layout.n, B))
+                      : BlockSparseMatrix(std::vector<int>(layout.n, B), layout.pattern);
     B_ = Eigen::MatrixXd::Zero(A_.rows(), rhs);
     chol_ = make_sparse_cholesky(o.linear_solver, o.ordering, o.threads);
     chol_->analyze_sharing(A_, summary_.symbolic);  // the pattern analysis of an earlier system over the same poses
@@ -182,6 +185,7 @@ class PoseSystem {
     summary_.time_analyze_s += seconds_since(t0);
   }
   int unknown(int pose) const { return unknown_[pose]; }
+  const BlockSparseMatrix& matrix() const { return A_; }
   /// Clears the values for a new system with the same pattern and `rhs` right-hand sides.
   void reset(int rhs) {
     A_.set_zero();
@@ -313,7 +317,7 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSumm
     summary.time_assemble_s += seconds_since(t);
     pos = theta_sys.solve();  // row u: (x, y) of unknown u
   } else {
-    PoseSystem<2> pos_sys(layout, 1, o, summary);
+    PoseSystem<2> pos_sys(layout, 1, o, summary, &theta_sys.matrix());
     t = std::chrono::steady_clock::now();
     const Eigen::Matrix2d I2 = Eigen::Matrix2d::Identity();
     for (std::size_t e = 0; e < g.edges.size(); ++e) {

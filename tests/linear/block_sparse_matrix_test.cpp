@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 
 namespace slamkit {
 namespace {
@@ -40,6 +41,24 @@ TEST(BlockSparseMatrix, PatternLayoutAndCsc) {
     EXPECT_EQ(A.values()[A.diagonal_positions()[c]], D(c, c));
   }
   EXPECT_TRUE(D.isApprox(D.transpose()));
+}
+
+// The same pattern with other block sizes equals building it from the pairs again.
+TEST(BlockSparseMatrix, SamePatternOtherBlockSizes) {
+  const std::vector<std::pair<int, int>> pairs = {{0, 1}, {3, 1}, {2, 5}, {0, 5}, {4, 3}, {0, 1}};
+  const BlockSparseMatrix A(std::vector<int>(6, 1), pairs);
+  const std::vector<int> dims = {2, 2, 3, 2, 1, 2};
+  const BlockSparseMatrix B(A, dims), C(dims, pairs);
+  EXPECT_EQ(B.block_column_pointers(), C.block_column_pointers());
+  EXPECT_EQ(B.block_row_indices(), C.block_row_indices());
+  EXPECT_EQ(B.rows(), C.rows());
+  EXPECT_EQ(B.nnz(), C.nnz());
+  EXPECT_EQ(B.diagonal_positions(), C.diagonal_positions());
+  EXPECT_EQ(B.col_ptr(), C.col_ptr());
+  EXPECT_EQ(B.row_index(), C.row_index());
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(B.block_offset(i, j), C.block_offset(i, j)) << i << "," << j;
+  EXPECT_THROW(BlockSparseMatrix(A, std::vector<int>(5, 2)), std::invalid_argument);
 }
 
 TEST(BlockSparseMatrix, MultiplyMatchesDense) {

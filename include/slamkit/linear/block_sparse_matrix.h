@@ -26,6 +26,9 @@ class BlockSparseMatrix {
   /// block_dims[i]: size of block row/column i. blocks: (i, j) pairs in any order, duplicates
   /// allowed, either triangle; every diagonal block is added.
   BlockSparseMatrix(std::vector<int> block_dims, std::vector<std::pair<int, int>> blocks);
+  /// The block pattern of `pattern` with other block sizes (one per block), zero values; no
+  /// sorting again (the 2D initialization's position system on its orientation system's pattern).
+  BlockSparseMatrix(const BlockSparseMatrix& pattern, std::vector<int> block_dims);
 
   int num_blocks() const { return static_cast<int>(block_dims_.size()); }
   int rows() const { return rows_; }
@@ -70,6 +73,7 @@ class BlockSparseMatrix {
   std::vector<int> col_heights_;                    // rows per scalar column of block column j
   mutable std::vector<int> col_ptr_, row_index_;    // scalar CSC, empty until first asked for
   void build_scalar_index() const;
+  void lay_out_values();  // block starts, column heights, offsets and zero values from the pattern
   std::vector<std::ptrdiff_t> diag_pos_;
   std::vector<double> values_;
 };
