@@ -14,11 +14,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <sys/resource.h>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 #include "bench_data.h"
+#include "slamkit/core/process_heap.h"
 #include "slamkit/factors/pose_graph_optimizer.h"
 #include "slamkit/io/pose_graph_io.h"
 #include "slamkit/linear/blas_runtime.h"
@@ -97,8 +95,8 @@ std::vector<std::pair<std::string, double>> phases_ms(double load_s, const PoseG
 
 int main(int argc, char** argv) {
   reexec_with_better_blas_core(argv);  // same BLAS kernels as the CLI uses
-  // The CLI's heap policy (apps/slamkit/main.cpp): memory freed by loading stays in the heap for
-  // the optimizer, so run 1 here faults the pages the CLI's run faults. --glibc-heap keeps glibc's.
+  // The CLI's heap policy (slamkit/core/process_heap.h): freed memory stays in the heap, the first
+  // 64 MiB sit on huge pages, so run 1 here faults the pages the CLI's run faults. --glibc-heap keeps glibc's.
   bool glibc_heap = false;
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--glibc-heap") {
@@ -107,12 +105,7 @@ int main(int argc, char** argv) {
       --argc;
       break;
     }
-#if defined(__GLIBC__)
-  if (!glibc_heap) {
-    mallopt(M_MMAP_THRESHOLD, 4 << 20);
-    mallopt(M_TRIM_THRESHOLD, 64 << 20);
-  }
-#endif
+  if (!glibc_heap) configure_process_heap();
   std::string repeat_s = "5", threads_s = "0", only,
               out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/pose_graph_profile.json";
   if (!bench::parse_options(argc, argv, "[--repeat 5] [--only SUBSTRING] [--threads N] [--out FILE] [--glibc-heap]",

@@ -1,30 +1,24 @@
 // slamkit: the command-line front end. Exit codes: 0 success, 1 error in the input or the
 // run (message on stderr), 2 usage error (CLI11), 3 unexpected internal error.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 #include "commands.h"
 #include "slamkit/core/error.h"
+#include "slamkit/core/process_heap.h"
 #include "slamkit/linear/blas_runtime.h"
 
 int main(int argc, char** argv) {
   // OpenBLAS may not know this CPU and run generic kernels at half speed: restart with the
   // right ones (see slamkit/linear/blas_runtime.h; SLAMKIT_KEEP_BLAS_CORE=1 opts out).
   slamkit::reexec_with_better_blas_core(argv);
-#if defined(__GLIBC__)
-  // glibc serves blocks above 128 KiB (its starting mmap threshold) by mmap and unmaps them on
-  // free, and hands a free heap top above 128 KiB back to the OS: memory that one phase frees
-  // (loading, the initialization) then comes back to the next as fresh pages, each a page fault
-  // (1.5-2 us per 4 KiB on the 2-core VM; a third of the faults of a small pose graph's run,
-  // docs/pose_graph_profile.md). Blocks below 4 MiB stay in the heap and up to 64 MiB of free
-  // top is kept; larger blocks (big graphs) still map and unmap.
-  mallopt(M_MMAP_THRESHOLD, 4 << 20);
-  mallopt(M_TRIM_THRESHOLD, 64 << 20);
-#endif
+  // Freed memory stays in the heap, and the run's first 64 MiB of heap sit on transparent huge
+  // pages: page faults were a quarter of a small pose graph's run (slamkit/core/process_heap.h).
+  // SLAMKIT_HUGE_PAGES=0 keeps ordinary pages.
+  const char* huge = std::getenv("SLAMKIT_HUGE_PAGES");
+  slamkit::configure_process_heap(huge && std::string(huge) == "0" ? 0 : slamkit::kDefaultHugeHeapReserve);
   CLI::App app{"slamkit: SLAM back-end toolkit (graph optimization, filters, VIO, evaluation)"};
   app.set_version_flag("--version", std::string("slamkit ") + SLAMKIT_VERSION);
   app.require_subcommand(1);
