@@ -96,7 +96,7 @@ std::vector<std::pair<std::string, double>> phases_ms(double load_s, const PoseG
 int main(int argc, char** argv) {
   reexec_with_better_blas_core(argv);  // same BLAS kernels as the CLI uses
   // The CLI's heap policy (slamkit/core/process_heap.h): freed memory stays in the heap, the first
-  // 64 MiB sit on huge pages, so run 1 here faults the pages the CLI's run faults. --glibc-heap keeps glibc's.
+  // 4 MiB sit on huge pages, so run 1 here faults the pages the CLI's run faults. --glibc-heap keeps glibc's.
   bool glibc_heap = false;
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--glibc-heap") {

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   // OpenBLAS may not know this CPU and run generic kernels at half speed: restart with the
   // right ones (see slamkit/linear/blas_runtime.h; SLAMKIT_KEEP_BLAS_CORE=1 opts out).
   slamkit::reexec_with_better_blas_core(argv);
-  // Freed memory stays in the heap, and the run's first 64 MiB of heap sit on transparent huge
+  // Freed memory stays in the heap, and the run's first 4 MiB of heap sit on transparent huge
   // pages: page faults were a quarter of a small pose graph's run (slamkit/core/process_heap.h).
   // SLAMKIT_HUGE_PAGES=0 keeps ordinary pages.
   const char* huge = std::getenv("SLAMKIT_HUGE_PAGES");

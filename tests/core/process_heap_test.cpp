@@ -47,7 +47,7 @@ TEST(ProcessHeap, ReserveIsAlignedAndServesTheNextAllocations) {
   EXPECT_TRUE(report.tuned);
   if (report.huge_bytes == 0) GTEST_SKIP() << "no huge-page reserve on this system (kernel without THP?)";
   EXPECT_EQ(report.huge_bytes % (std::size_t{2} << 20), 0u);
-  EXPECT_GE(report.huge_bytes, slamkit::kDefaultHugeHeapReserve - (std::size_t{4} << 20));
+  EXPECT_EQ(report.huge_bytes, slamkit::kDefaultHugeHeapReserve);
   // A block larger than any free chunk left below the reserve comes from its start, at a 2 MiB
   // boundary (plus malloc's chunk header), and is usable.
   const std::size_t n = std::size_t{3} << 20;
