@@ -279,6 +279,15 @@ std::vector<int> postorder(int n, const std::vector<std::pair<int, int>>& edges,
 }  // namespace
 
 constexpr double kNestedDissectionBlockFlops = 1e8;
+// Nested dissection (METIS and NESDIS, both tried) costs ~2 us per block edge each (1M-pose
+// Manhattan: 4.4 and 4.9 s for 2.37M edges, against 0.8 s for AMD) and has saved at most 30-45 %
+// of AMD's flops (Manhattan 1M 30 %, a 100k-pose sphere 44 %). A block flop of a 3×3-block
+// factorization takes ~2.9 ns here (more for larger blocks), so over ~8 factorizations (init,
+// symbolic analysis, iterations) the saving, ≤ 0.3 · 8 · 2.9 ns · flops, exceeds the ~4 us per
+// edge that the two orderings cost only above ~575 block flops per edge of the AMD order: the
+// 100k sphere has 4 800 (METIS saves 7 s for 0.7 s), the 1M Manhattan 167 (NESDIS cost 9 s
+// to save 1.3 s).
+constexpr double kNestedDissectionFlopsPerEdge = 600;
 
 EliminationOrder compute_elimination_order(int n, const std::vector<std::pair<int, int>>& edges,
                                            OrderingMethod method) {
@@ -305,10 +314,13 @@ EliminationOrder compute_elimination_order(int n, const std::vector<std::pair<in
       // Measured on the pose-graph datasets (up to 1.2e9 scalar flops per factorization),
       // METIS/NESDIS save ≤ 20% of the flops but no time: supernodes of the AMD order are
       // as efficient, and the orderings themselves cost 10–120 ms. So AMD alone below
-      // kNestedDissectionBlockFlops (≈ 2e10 scalar flops for 6×6 blocks, ~1 s factorizations).
+      // kNestedDissectionBlockFlops (≈ 2e10 scalar flops for 6×6 blocks, ~1 s factorizations), and
+      // below kNestedDissectionFlopsPerEdge, where the orderings cost more than they save.
       best = amd_after_series_reduction(n, col_ptr, rows);
       best.order = postorder(n, edges, best.order, &best.flops);
-      if (best.flops < kNestedDissectionBlockFlops) return best;  // postordered already
+      if (best.flops < kNestedDissectionBlockFlops ||
+          best.flops < kNestedDissectionFlopsPerEdge * static_cast<double>(rows.size() - static_cast<std::size_t>(n)))
+        return best;  // postordered already
       for (int m : {CHOLMOD_METIS, CHOLMOD_NESDIS}) {
         EliminationOrder candidate = cholmod_order(n, col_ptr, rows, m);
         if (candidate.flops < best.flops) best = std::move(candidate);
