@@ -1,7 +1,6 @@
 // slamkit: the command-line front end. Exit codes: 0 success, 1 error in the input or the
 // run (message on stderr), 2 usage error (CLI11), 3 unexpected internal error.
 #include <CLI/CLI.hpp>
-#include <cstdlib>
 #include <exception>
 #include <iostream>
 
@@ -17,8 +16,7 @@ int main(int argc, char** argv) {
   // Freed memory stays in the heap, and the run's first 4 MiB of heap sit on transparent huge
   // pages: page faults were a quarter of a small pose graph's run (slamkit/core/process_heap.h).
   // SLAMKIT_HUGE_PAGES=0 keeps ordinary pages.
-  const char* huge = std::getenv("SLAMKIT_HUGE_PAGES");
-  slamkit::configure_process_heap(huge && std::string(huge) == "0" ? 0 : slamkit::kDefaultHugeHeapReserve);
+  slamkit::configure_process_heap();
   CLI::App app{"slamkit: SLAM back-end toolkit (graph optimization, filters, VIO, evaluation)"};
   app.set_version_flag("--version", std::string("slamkit ") + SLAMKIT_VERSION);
   app.require_subcommand(1);

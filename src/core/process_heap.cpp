@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <string>
 #if defined(__GLIBC__) && defined(__linux__)
 #include <malloc.h>
 #include <sys/mman.h>
@@ -12,8 +13,9 @@
 namespace slamkit {
 namespace {
 // The filler block below the huge-page range: held for the process's lifetime (reachable, so
-// leak checkers do not report it).
+// leak checkers do not report it); non-null once the reserve is in place.
 void* heap_filler = nullptr;
+std::size_t huge_reserved = 0;
 }  // namespace
 
 ProcessHeapReport configure_process_heap(std::size_t huge_reserve_bytes) {
@@ -24,8 +26,13 @@ ProcessHeapReport configure_process_heap(std::size_t huge_reserve_bytes) {
   mallopt(M_MMAP_THRESHOLD, static_cast<int>(kMmapThreshold));
   mallopt(M_TRIM_THRESHOLD, static_cast<int>(kTrimThreshold));
   report.tuned = true;
+  if (const char* env = std::getenv("SLAMKIT_HUGE_PAGES"); env && std::string(env) == "0") huge_reserve_bytes = 0;
   // The reserve stays below the trim threshold with the block, or free() would hand it back.
   if (huge_reserve_bytes < kHugePage || huge_reserve_bytes + 4 * kHugePage > kTrimThreshold) return report;
+  if (heap_filler) {  // a second call: the reserve made by the first stays as it is
+    report.huge_bytes = huge_reserved;
+    return report;
+  }
   // A probe block larger than the heap's free top, allocated with a top pad of the reserve: the
   // main arena grows by brk to [probe, probe + probe size + reserve).
   constexpr std::size_t kProbe = std::size_t{1} << 20;
@@ -53,7 +60,7 @@ ProcessHeapReport configure_process_heap(std::size_t huge_reserve_bytes) {
     return report;
   }
   heap_filler = filler;
-  report.huge_bytes = end - begin;
+  report.huge_bytes = huge_reserved = end - begin;
 #else
   (void)huge_reserve_bytes;
 #endif

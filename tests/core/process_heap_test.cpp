@@ -45,9 +45,11 @@ TEST(ProcessHeap, ReserveIsAlignedAndServesTheNextAllocations) {
   const slamkit::ProcessHeapReport report = slamkit::configure_process_heap();
 #if defined(__GLIBC__) && defined(__linux__)
   EXPECT_TRUE(report.tuned);
-  if (report.huge_bytes == 0) GTEST_SKIP() << "no huge-page reserve on this system (kernel without THP?)";
+  if (report.huge_bytes == 0) GTEST_SKIP() << "no huge-page reserve (SLAMKIT_HUGE_PAGES=0, or a kernel without THP)";
   EXPECT_EQ(report.huge_bytes % (std::size_t{2} << 20), 0u);
   EXPECT_EQ(report.huge_bytes, slamkit::kDefaultHugeHeapReserve);
+  // A second call keeps the first reserve (no second filler, no second range).
+  EXPECT_EQ(slamkit::configure_process_heap().huge_bytes, report.huge_bytes);
   // A block larger than any free chunk left below the reserve comes from its start, at a 2 MiB
   // boundary (plus malloc's chunk header), and is usable.
   const std::size_t n = std::size_t{3} << 20;

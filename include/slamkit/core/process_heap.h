@@ -15,7 +15,9 @@
 //      graph's whole run, few enough that a cold one stays rare) of the heap's growth
 //      MADV_HUGEPAGE (address space only: nothing is touched here).
 // Growth beyond the reserve and blocks above 4 MiB use ordinary pages. A library caller that
-// wants the same calls it once at the start of main(). No-op outside glibc on Linux.
+// wants the same calls it once at the start of main(); later calls keep the first reserve. The
+// environment variable SLAMKIT_HUGE_PAGES=0 makes the reserve 0 (thresholds only). No-op outside
+// glibc on Linux.
 #include <cstddef>
 
 namespace slamkit {
