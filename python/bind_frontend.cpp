@@ -105,7 +105,7 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T EpipolarSear
 const std::vector<const char*> kOptionFields = {
     "max_features", "min_distance_px", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
     "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "known_rotation",
-    "rotation_prior_sigma_rad", "pure_rotation_share", "gyro_klt", "baseline_frames",
+    "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc"};
 
@@ -145,6 +145,8 @@ void init_frontend(py::module_& m) {
         "known_rotation: sigma of the prior letting the refinement move R (0: R held)");
   field(opt, "pure_rotation_share", &DynamicFilterOptions::pure_rotation_share,
         "known_rotation: translation undefined when this share of the matches fits the rotation alone");
+  field(opt, "cheirality", &DynamicFilterOptions::cheirality,
+        "known_rotation: also flag features behind R b1 on their epipolar circle (negative depth if static)");
   field(opt, "epipolar_search", &EpipolarSearchOptions::enabled,
         "re-search dynamic-flagged features along their epipolar line before the flag counts");
   field(opt, "epipolar_search_range_px", &EpipolarSearchOptions::search_half_px,

@@ -272,6 +272,11 @@ void add_vio_command(CLI::App& app) {
          "with --images: epipolar test with the gyroscope's rotation, only the translation fitted (2-point RANSAC) [on]")
       ->check(CLI::IsMember({"on", "off"}));
   sub->add_option_function<std::string>(
+         "--cheirality", [o](const std::string& v) { o->image.vio.frontend.filter.cheirality = v == "on"; },
+         "with --imu-rotation on: also flag a feature whose bearing lies behind R b1 on its epipolar circle "
+         "(a negative depth for a static point) by more than the threshold [on]")
+      ->check(CLI::IsMember({"on", "off"}));
+  sub->add_option_function<std::string>(
          "--gyro-klt", [o](const std::string& v) { o->image.vio.frontend.tracker.gyro_klt = parse_gyro_klt(v); },
          "with --images: seed KLT with the gyroscope's rotation (infinite-depth prediction): off, seed (= on: "
          "replaces the zero-flow start) or candidate (added to the zero-flow and median-flow starts) [off]")

@@ -93,6 +93,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"imu_rotation", o.vio.frontend.filter.known_rotation},
                {"rotation_prior_sigma_rad", o.vio.frontend.filter.rotation_prior_sigma_rad},
                {"pure_rotation_share", o.vio.frontend.filter.pure_rotation_share},
+               {"cheirality", o.vio.frontend.filter.cheirality},
                {"gyro_klt", gyro_klt_name(o.vio.frontend.tracker.gyro_klt)},
                {"dynamic_precision", s.precision()},
                {"dynamic_recall", s.recall()},

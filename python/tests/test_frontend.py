@@ -109,6 +109,8 @@ def test_known_rotation_options():
     o = sk.FrontendOptions(known_rotation=False, rotation_prior_sigma_rad=0.002, pure_rotation_share=0.7)
     assert (o.known_rotation, o.rotation_prior_sigma_rad, o.pure_rotation_share) == (False, 0.002, 0.7)
     assert "known_rotation=False" in repr(o)
+    assert sk.FrontendOptions().cheirality is True
+    assert sk.FrontendOptions(cheirality=False).cheirality is False
     f = sk.ImageFrontend(sk.FrontendOptions(known_rotation=True))
     frame = np.zeros((64, 64), np.uint8)
     assert f.process(frame, rotation=np.eye(3)).motion_model == "estimated"  # nothing tracked yet

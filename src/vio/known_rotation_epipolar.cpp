@@ -159,6 +159,32 @@ double known_rotation_angle(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, 
   return std::asin(std::min(1.0, std::abs(b.dot(n)) / norm));
 }
 
+double known_rotation_parallax(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& b1,
+                               const Eigen::Vector3d& b2) {
+  const double n1 = b1.norm(), n2 = b2.norm();
+  if (!(n1 > 0.0) || !(n2 > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Vector3d a = R * (b1 / n1), b = b2 / n2;
+  const Eigen::Vector3d u = t - t.dot(a) * a;  // the tangent at a toward t, in the epipolar plane
+  const double nu = u.norm();
+  if (!(nu > 1e-6)) return 0.0;  // t = 0, or a at the epipole: no direction
+  return std::atan2(b.dot(u) / nu, b.dot(a));
+}
+
+Eigen::Vector3d orient_translation(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vector<Eigen::Vector3d>& b1,
+                                   const std::vector<Eigen::Vector3d>& b2, double inlier_angle_rad, double min_parallax_rad) {
+  if (b1.size() != b2.size())
+    throw std::invalid_argument("orient_translation: " + std::to_string(b1.size()) + " and " + std::to_string(b2.size()) +
+                                " bearings");
+  int ahead = 0, behind = 0;
+  for (std::size_t k = 0; k < b1.size(); ++k) {
+    if (!(known_rotation_angle(R, t, b1[k], b2[k]) <= inlier_angle_rad)) continue;  // NaN: skipped
+    const double p = known_rotation_parallax(R, t, b1[k], b2[k]);
+    if (p > min_parallax_rad) ++ahead;
+    else if (p < -min_parallax_rad) ++behind;
+  }
+  return behind > ahead ? Eigen::Vector3d(-t) : t;
+}
+
 KnownRotationModel fit_known_rotation(const std::vector<Eigen::Vector3d>& in1, const std::vector<Eigen::Vector3d>& in2,
                                       const Eigen::Matrix3d& R_given, const KnownRotationOptions& o) {
   if (in1.size() != in2.size())

@@ -83,6 +83,12 @@ struct DynamicFilterOptions {
   /// With known_rotation: the translation is undefined (pure rotation; every match judged by
   /// ∠(b2, R b1)) when at least this share of the fitted matches moves as R alone says.
   double pure_rotation_share = 0.5;
+  /// With known_rotation (a translation found, not pure rotation): also flag a match whose bearing lies
+  /// behind R b1 on its epipolar circle, i.e. a negative depth for a static point, by more than the
+  /// threshold (f · the angle, known_rotation_parallax; t's sign from the fitted matches). It catches
+  /// movers that slide backwards along their epipolar line, which the distance to the plane cannot see
+  /// (docs/frontend.md, session 31). The reported distance is the larger of the two.
+  bool cheirality = true;
 };
 
 /// Which camera-motion model classified the matches (status kEpipolar).

@@ -70,6 +70,21 @@ bool translation_from_two_matches(const Eigen::Matrix3d& R, const Eigen::Vector3
 double known_rotation_angle(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& b1,
                             const Eigen::Vector3d& b2);
 
+/// Cheirality (session 31): a static point at depth Z₁ > 0 is seen in frame 2 along Z₁ R b1 + s t
+/// (s > 0 the translation's length), i.e. on the epipolar great circle between R b1 (Z₁ = ∞) and t
+/// (Z₁ → 0). The signed angle [rad] from a = R b1 toward t along that circle, atan2(b2·u, b2·a) with u
+/// the unit tangent at a toward t; negative means b2 lies on the far side of a, a negative depth
+/// for a static point. 0 when t = 0 or a is at the epipole; NaN if a bearing is zero. A mover that slides
+/// backwards along its epipolar line has a negative parallax while its distance to the plane is small.
+double known_rotation_parallax(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& b1,
+                               const Eigen::Vector3d& b2);
+
+/// t or −t, whichever gives the matches within inlier_angle_rad of the epipolar plane a positive
+/// parallax (above min_parallax_rad) in the majority: the 2-point solver's t is up to sign, the
+/// static scene fixes it. Ties keep t. Throws std::invalid_argument if the sizes differ.
+Eigen::Vector3d orient_translation(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vector<Eigen::Vector3d>& b1,
+                                   const std::vector<Eigen::Vector3d>& b2, double inlier_angle_rad, double min_parallax_rad);
+
 /// The model of the matches b1[i] → b2[i] under the rotation R = R_c2_c1 (see above). Non-finite or
 /// zero bearings are skipped. Deterministic (fixed RANSAC seed). Never throws on data; throws
 /// std::invalid_argument if b1 and b2 differ in size or an option is out of range.
