@@ -130,7 +130,7 @@ void init_vio(py::module_& m) {
         return to_result(run_vio_on_sim(sim, so, {}, startup));
       },
       py::arg("sim"), py::arg("window_size") = 10, py::arg("max_iterations") = 4, py::arg("threads") = 1,
-      py::arg("solver") = "dense", py::arg("dvi") = false, py::arg("alpha") = "M", py::arg("theta") = "0.5",
+      py::arg("solver") = "dense", py::arg("dvi") = false, py::arg("alpha") = "M^2", py::arg("theta") = "0.5",
       py::arg("ground_truth_start") = false,
       "The sliding-window visual-inertial estimator on a simulated run, as `slamkit vio --sim`: starts with the "
       "visual-inertial initializer (no ground truth after the first frame) unless ground_truth_start. dvi=True "
