@@ -486,12 +486,9 @@ bool DynamicFeatureFilter::classify_known_rotation(const std::vector<Eigen::Vect
   const Eigen::Matrix3d Kinv = K.inverse();
   c->F = Kinv.transpose() * tx * model.R * Kinv;  // zero under pure rotation (no epipolar line)
   const bool sph = spherical();
-  // Cheirality: t oriented by the fitted matches' parallax; a match behind R b1 (negative depth
-  // for a static point) by more than the threshold is as far from the static model as the distance says.
+  // Cheirality (model.t is oriented by the fit): a match behind R b1, a negative depth for a static
+  // point, by more than the threshold is as far from the static model as the distance says.
   const bool cheirality = options_.cheirality && !pure;
-  const Eigen::Vector3d t_oriented =
-      cheirality ? orient_translation(model.R, model.t, b1, b2, options_.threshold_px / f, options_.ransac_threshold_px / f)
-                 : model.t;
   for (std::size_t k = 0; k < all_b1.size(); ++k) {
     // Spherical: f · the angle to the epipolar plane (pure rotation: to R b1); pinhole: the
     // virtual-pinhole distance mapped to raw pixels, as for an estimated F.
@@ -499,7 +496,7 @@ bool DynamicFeatureFilter::classify_known_rotation(const std::vector<Eigen::Vect
                : pure ? rotation_distance(model.R, all_b1[k], v2[k], raw2[k])
                       : pinhole_distance(c->F, v1[k], v2[k], raw2[k]);
     if (cheirality) {
-      const double behind = -f * known_rotation_parallax(model.R, t_oriented, all_b1[k], all_b2[k]);
+      const double behind = -f * known_rotation_parallax(model.R, model.t, all_b1[k], all_b2[k]);
       if (behind > d) d = behind;  // NaN parallax: d unchanged
     }
     c->distance_px[index[k]] = d;

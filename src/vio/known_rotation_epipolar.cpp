@@ -272,6 +272,7 @@ KnownRotationModel fit_known_rotation(const std::vector<Eigen::Vector3d>& in1, c
       if (known_rotation_angle(m.R, m.t, b1[k], b2[k]) <= o.refine_angle_rad) use.push_back(k);
     if (static_cast<int>(use.size()) >= o.min_inliers) refine(b1, b2, use, R_given, o.cauchy_scale_rad, o.rotation_prior_sigma_rad, &m.R, &m.t);
   }
+  m.t = orient_translation(m.R, m.t, b1, b2, o.refine_angle_rad, o.inlier_angle_rad);  // the solver's sign is arbitrary
   m.inliers = count_inliers(m.R, m.t);
   m.status = m.inliers >= o.min_inliers ? KnownRotationStatus::kTranslation : KnownRotationStatus::kNoConsensus;
   return m;

@@ -142,6 +142,21 @@ std::shared_ptr<CameraModel> tumvi_camera() {
 // only the background has a translation that explains it, and the crowd is flagged. (A crowd that
 // translates without turning shares the camera's rotation: the known rotation cannot set it apart;
 // the trusted tracks do, docs/frontend.md.)
+// Pixel matches of world points seen by cameras T0 (pw) and T1 (pw2: where the point is then), with
+// pixel noise, kept when both project inside the image; label 0 static, > 0 a mover.
+struct PixelMatches {
+  std::vector<Eigen::Vector2d> prev, cur;
+  std::vector<int> label;
+  void add(const CameraModel& cam, const SE3& T0, const SE3& T1, const Eigen::Vector3d& pw, const Eigen::Vector3d& pw2,
+           int l, std::normal_distribution<double>& n, std::mt19937& rng) {
+    Eigen::Vector2d a, b;
+    if (!cam.project(T0.act(pw), &a) || !cam.project(T1.act(pw2), &b)) return;
+    if (!cam.in_image(a, 2) || !cam.in_image(b, 2)) return;
+    prev.push_back(a + Eigen::Vector2d(n(rng), n(rng))), cur.push_back(b + Eigen::Vector2d(n(rng), n(rng)));
+    label.push_back(l);
+  }
+};
+
 TEST(KnownRotationEpipolar, KnownRotationKeepsTheCameraMotionUnderATurningMajorityCrowd) {
   const auto cam = tumvi_camera();
   DynamicFilterOptions fo;
@@ -163,15 +178,8 @@ TEST(KnownRotationEpipolar, KnownRotationKeepsTheCameraMotionUnderATurningMajori
     const Eigen::Vector3d centre(0.0, 0.0, 3.5);
     const SE3 crowd_motion = SE3(SO3::exp(Eigen::Vector3d(0.0, 0.1, 0.0)), centre + Eigen::Vector3d(0.0, 0.12, 0.03)) *
                              SE3(SO3(), -centre);
-    std::vector<Eigen::Vector2d> prev, cur;
-    std::vector<int> label;
-    auto add = [&](const Eigen::Vector3d& pw, const Eigen::Vector3d& pw2, int l) {
-      Eigen::Vector2d a, b;
-      if (!cam->project(T0.act(pw), &a) || !cam->project(T1.act(pw2), &b)) return;
-      if (!cam->in_image(a, 2) || !cam->in_image(b, 2)) return;
-      prev.push_back(a + Eigen::Vector2d(n(rng), n(rng))), cur.push_back(b + Eigen::Vector2d(n(rng), n(rng)));
-      label.push_back(l);
-    };
+    PixelMatches m;
+    auto add = [&](const Eigen::Vector3d& pw, const Eigen::Vector3d& pw2, int l) { m.add(*cam, T0, T1, pw, pw2, l, n, rng); };
     for (int i = 0; i < 40; ++i) {
       const Eigen::Vector3d p(4 * u(rng), 3 * u(rng), 7 + 3 * u(rng));
       add(p, p, 0);
@@ -181,15 +189,15 @@ TEST(KnownRotationEpipolar, KnownRotationKeepsTheCameraMotionUnderATurningMajori
       add(p, crowd_motion.act(p), 1);
     }
     const Eigen::Matrix3d R_c2_c1 = (T1 * T0.inverse()).rotation().matrix();  // x_c2 = R x_c1 + t
-    const Classification e = estimated.classify(prev, cur, nullptr, &R_c2_c1);
+    const Classification e = estimated.classify(m.prev, m.cur, nullptr, &R_c2_c1);
     EXPECT_EQ(e.motion_model, MotionModel::kEstimated);
-    score_estimated += score_against_feature_labels(label, e.flags);
-    const Classification c = known.classify(prev, cur, nullptr, &R_c2_c1);
+    score_estimated += score_against_feature_labels(m.label, e.flags);
+    const Classification c = known.classify(m.prev, m.cur, nullptr, &R_c2_c1);
     ASSERT_EQ(c.status, ClassificationStatus::kEpipolar);
     known_frames += c.motion_model == MotionModel::kKnownRotation;
-    score_known += score_against_feature_labels(label, c.flags);
+    score_known += score_against_feature_labels(m.label, c.flags);
     // The same matches without a rotation: the estimated model, as before.
-    EXPECT_EQ(known.classify(prev, cur).motion_model, MotionModel::kEstimated);
+    EXPECT_EQ(known.classify(m.prev, m.cur).motion_model, MotionModel::kEstimated);
   }
   std::printf("turning majority crowd: estimated E precision %.3f recall %.3f; known rotation %.3f / %.3f (fp %ld fn %ld)\n",
               score_estimated.precision(), score_estimated.recall(), score_known.precision(), score_known.recall(),
@@ -281,12 +289,6 @@ TEST(KnownRotationEpipolar, PinholeModeScoresTheLineDistanceInRawPixels) {
   }
 }
 
-}  // namespace
-}  // namespace slamkit
-
-namespace slamkit {
-namespace {
-
 // Cheirality (session 31): static points have a non-negative parallax toward t once t is oriented;
 // a point that slides backwards along its epipolar line has a negative one, of its displacement's size.
 TEST(KnownRotationEpipolar, ParallaxIsPositiveForStaticPointsAndOrientsTheTranslation) {
@@ -302,6 +304,9 @@ TEST(KnownRotationEpipolar, ParallaxIsPositiveForStaticPointsAndOrientsTheTransl
   // Whatever sign the solver returns, the static scene fixes it.
   EXPECT_LT((orient_translation(R, -tu, m.b1, m.b2, 1e-3, 1e-4) - tu).norm(), 1e-15);
   EXPECT_LT((orient_translation(R, tu, m.b1, m.b2, 1e-3, 1e-4) - tu).norm(), 1e-15);
+  const KnownRotationModel fit = fit_known_rotation(m.b1, m.b2, R);  // the fit returns t so oriented
+  ASSERT_EQ(fit.status, KnownRotationStatus::kTranslation);
+  EXPECT_NEAR(fit.t.dot(tu), 1.0, 1e-9);
   // A point at depth 5 m moved back along its epipolar circle, past R b1: it stays on the plane
   // (distance 0) but its parallax is negative by the angle it moved beyond R b1.
   const Eigen::Vector3d a = R * Eigen::Vector3d(0.2, 0.1, 1.0).normalized();
@@ -337,15 +342,8 @@ TEST(KnownRotationEpipolar, CheiralityCatchesMoversSlidingBackAlongTheirEpipolar
     const SE3 T1 = SE3::exp((Eigen::Matrix<double, 6, 1>() << step, 0.02 * u(rng), 0.02 * u(rng), 0.02 * u(rng))
                                 .finished()) * T0;
     const Eigen::Vector3d centre_cam1 = T0.inverse().translation(), centre_cam2 = T1.inverse().translation();
-    std::vector<Eigen::Vector2d> prev, cur;
-    std::vector<int> label;
-    auto add = [&](const Eigen::Vector3d& pw, const Eigen::Vector3d& pw2, int l) {
-      Eigen::Vector2d a, b;
-      if (!cam->project(T0.act(pw), &a) || !cam->project(T1.act(pw2), &b)) return;
-      if (!cam->in_image(a, 2) || !cam->in_image(b, 2)) return;
-      prev.push_back(a + Eigen::Vector2d(n(rng), n(rng))), cur.push_back(b + Eigen::Vector2d(n(rng), n(rng)));
-      label.push_back(l);
-    };
+    PixelMatches m;
+    auto add = [&](const Eigen::Vector3d& pw, const Eigen::Vector3d& pw2, int l) { m.add(*cam, T0, T1, pw, pw2, l, n, rng); };
     for (int i = 0; i < 100; ++i) {
       const Eigen::Vector3d p = T0.inverse().act(Eigen::Vector3d(4 * u(rng), 3 * u(rng), 5 + 3 * u(rng)));
       add(p, p, 0);
@@ -357,11 +355,11 @@ TEST(KnownRotationEpipolar, CheiralityCatchesMoversSlidingBackAlongTheirEpipolar
       add(p, p + 1.6 * (centre_cam2 - centre_cam1), 1);
     }
     const Eigen::Matrix3d R_c2_c1 = (T1 * T0.inverse()).rotation().matrix();
-    const Classification a = plane_only.classify(prev, cur, nullptr, &R_c2_c1);
-    const Classification b = with_cheirality.classify(prev, cur, nullptr, &R_c2_c1);
+    const Classification a = plane_only.classify(m.prev, m.cur, nullptr, &R_c2_c1);
+    const Classification b = with_cheirality.classify(m.prev, m.cur, nullptr, &R_c2_c1);
     ASSERT_EQ(b.motion_model, MotionModel::kKnownRotation);
-    plane += score_against_feature_labels(label, a.flags);
-    cheir += score_against_feature_labels(label, b.flags);
+    plane += score_against_feature_labels(m.label, a.flags);
+    cheir += score_against_feature_labels(m.label, b.flags);
   }
   std::printf("movers sliding back along their epipolar lines: plane distance only precision %.3f recall %.3f; "
               "with cheirality %.3f / %.3f (fp %ld)\n",

@@ -53,7 +53,9 @@ const char* to_string(KnownRotationStatus s);
 struct KnownRotationModel {
   KnownRotationStatus status = KnownRotationStatus::kTooFewMatches;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< R_c2_c1 (the given one, or refined under its prior)
-  Eigen::Vector3d t = Eigen::Vector3d::Zero();      ///< unit translation direction (0 unless kTranslation)
+  /// Unit translation direction (0 unless kTranslation), oriented by orient_translation: the static
+  /// matches (within refine_angle_rad of their plane) lie ahead of R b1, i.e. at positive depth.
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
   int usable = 0;        ///< finite, non-zero bearing pairs
   int informative = 0;   ///< usable pairs whose rotation residual exceeds the inlier angle
   int inliers = 0;       ///< usable pairs within the inlier angle of the final model
@@ -81,7 +83,7 @@ double known_rotation_parallax(const Eigen::Matrix3d& R, const Eigen::Vector3d& 
 
 /// t or −t, whichever gives the matches within inlier_angle_rad of the epipolar plane a positive
 /// parallax (above min_parallax_rad) in the majority: the 2-point solver's t is up to sign, the
-/// static scene fixes it. Ties keep t. Throws std::invalid_argument if the sizes differ.
+/// static scene fixes it (fit_known_rotation returns its t so oriented). Ties keep t. Throws std::invalid_argument if the sizes differ.
 Eigen::Vector3d orient_translation(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vector<Eigen::Vector3d>& b1,
                                    const std::vector<Eigen::Vector3d>& b2, double inlier_angle_rad, double min_parallax_rad);
 
