@@ -304,6 +304,11 @@ void add_vio_command(CLI::App& app) {
   sub->add_option("--score-max-distance", o->image.vio.score_max_distance_m,
                   "with --images: score only objects at most this far from the camera (m; issue 13: 6)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--score-patch-half", o->image.vio.score_patch_half_size_px,
+                  "with --images: half side of the scoring label patch (px; -1: the KLT window's half, 0: centre pixel)")
+      ->check(CLI::Range(-1, 50))->capture_default_str();
+  sub->add_option("--klt-window", o->image.vio.frontend.tracker.klt_window, "with --images: KLT window side (px)")
+      ->check(CLI::Range(3, 101))->capture_default_str();
   sub->add_option("--feature-log", o->image.feature_log, "with --images: write every scored feature to this CSV");
   sub->add_option("--render-threads", o->image.threads, "with --images: renderer threads (0: all)");
   sub->callback([o]() { run_vio(*o); });
