@@ -95,6 +95,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"pure_rotation_share", o.vio.frontend.filter.pure_rotation_share},
                {"cheirality", o.vio.frontend.filter.cheirality},
                {"gyro_klt", gyro_klt_name(o.vio.frontend.tracker.gyro_klt)},
+               {"klt_window", o.vio.frontend.tracker.klt_window},
                {"dynamic_precision", s.precision()},
                {"dynamic_recall", s.recall()},
                {"dynamic_precision_centre", c.precision()},
