@@ -118,6 +118,14 @@ def test_known_rotation_options():
         f.process(frame, rotation=np.eye(2))
 
 
+def test_klt_window_option():
+    assert sk.FrontendOptions().klt_window == 21
+    o = sk.FrontendOptions(klt_window=15)
+    assert sk.ImageFrontend(o).options.klt_window == 15 and "klt_window=15" in repr(o)
+    with pytest.raises(ValueError, match="klt_window"):
+        sk.ImageFrontend(sk.FrontendOptions(klt_window=2))
+
+
 def test_epipolar_search_options():
     o = sk.FrontendOptions()
     assert o.epipolar_search is False and o.epipolar_search_range_px == 0.0

@@ -137,11 +137,6 @@ std::shared_ptr<CameraModel> tumvi_camera() {
                            512, 512);
 }
 
-// 40 static points against a rigid crowd of 110 that walks and turns as one (a group on a turning
-// path, 0.1 s): E fitted on all matches takes the crowd's motion; with the camera's rotation known
-// only the background has a translation that explains it, and the crowd is flagged. (A crowd that
-// translates without turning shares the camera's rotation: the known rotation cannot set it apart;
-// the trusted tracks do, docs/frontend.md.)
 // Pixel matches of world points seen by cameras T0 (pw) and T1 (pw2: where the point is then), with
 // pixel noise, kept when both project inside the image; label 0 static, > 0 a mover.
 struct PixelMatches {
@@ -157,6 +152,11 @@ struct PixelMatches {
   }
 };
 
+// 40 static points against a rigid crowd of 110 that walks and turns as one (a group on a turning
+// path, 0.1 s): E fitted on all matches takes the crowd's motion; with the camera's rotation known
+// only the background has a translation that explains it, and the crowd is flagged. (A crowd that
+// translates without turning shares the camera's rotation: the known rotation cannot set it apart;
+// the trusted tracks do, docs/frontend.md.)
 TEST(KnownRotationEpipolar, KnownRotationKeepsTheCameraMotionUnderATurningMajorityCrowd) {
   const auto cam = tumvi_camera();
   DynamicFilterOptions fo;
