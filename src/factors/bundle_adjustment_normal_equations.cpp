@@ -84,7 +84,18 @@ struct PassData {
   const BlockSparseMatrix* hessian;
   const RobustKernel* kernel;
   int np;
+  // Optional: H's columns of the next sub-chunk [pf_begin, pf_end), prefetched into L2 while
+  // these points are linearized (the next back-substitution reads them).
+  const char* pf_begin = nullptr;
+  const char* pf_end = nullptr;
 };
+
+// Prefetch the share [g, g+1) of G equal shares of d's prefetch range, one 64-byte line at a time.
+inline void prefetch_share(const PassData& d, long g, long G) {
+  if (!d.pf_begin || G <= 0) return;
+  const long bytes = d.pf_end - d.pf_begin;
+  for (long o = (bytes * g / G) & ~63L, e = bytes * (g + 1) / G; o < e; o += 64) __builtin_prefetch(d.pf_begin + o, 1, 2);
+}
 
 // Point j's blocks from its sums: C_j (symmetric, from the upper triangle c00 c01 c02 c11 c12
 // c22), g_j and the diagonal D_j = diag(C_j).
@@ -138,8 +149,10 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points4(const
     reset();
   };
   reset();
-  const int q_end = d.pt_ptr[j_end];
-  for (int q = d.pt_ptr[j_begin]; q < q_end; q += 4) {
+  const int q_end = d.pt_ptr[j_end], q_begin = d.pt_ptr[j_begin];
+  const long groups = (q_end - q_begin + 3) / 4;
+  for (int q = q_begin; q < q_end; q += 4) {
+    prefetch_share(d, (q - q_begin) / 4, groups);
     const int n = std::min(4, q_end - q);
     const BalPointObservation* o[4];
     for (int k = 0; k < 4; ++k) o[k] = d.pt_obs + q + std::min(k, n - 1);
@@ -246,8 +259,10 @@ __attribute__((target("avx512f"))) double linearize_points8(const PassData& d, i
     reset();
   };
   reset();
-  const int q_end = d.pt_ptr[j_end];
-  for (int q = d.pt_ptr[j_begin]; q < q_end; q += 8) {
+  const int q_end = d.pt_ptr[j_end], q_begin = d.pt_ptr[j_begin];
+  const long groups = (q_end - q_begin + 7) / 8;
+  for (int q = q_begin; q < q_end; q += 8) {
+    prefetch_share(d, (q - q_begin) / 8, groups);
     const int n = std::min(8, q_end - q);
     const BalPointObservation* o[8];
     for (int k = 0; k < 8; ++k) o[k] = d.pt_obs + q + std::min(k, n - 1);
@@ -481,8 +496,8 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
           const int j_end = std::min<int>(np_, j_begin + kChunk);
           if (before_chunk && !kJacobians) (*before_chunk)(j_begin, j_end);
           if (kJacobians) {
-            const PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), c_off_.data(), cam_obs_.data(),
-                             cam_ptr_.data(), H, g_.data(), diag_.data(), &hessian_, kernel, np_};
+            PassData d{x.points.data(), frames_.data(), pt_obs_.data(), pt_ptr_.data(), c_off_.data(), cam_obs_.data(),
+                       cam_ptr_.data(), H, g_.data(), diag_.data(), &hessian_, kernel, np_};
             // With before_chunk, sub-chunks of kSub points: its reads of their H columns are
             // still in L2 when they are overwritten (the cost is summed in the same order). 64
             // rather than 16: fewer part-filled lane groups at sub-chunk ends (s27: fused pass
@@ -491,6 +506,14 @@ double BalNormalEquations::point_pass(const BalState& x, std::vector<double>* ch
             for (int jb = j_begin; jb < j_end; jb += sub) {
               const int je = std::min(j_end, jb + sub);
               if (before_chunk) (*before_chunk)(jb, je);
+              // The next sub-chunk (maybe of the next chunk): its columns of H into L2 for its back-substitution.
+              const int jn = std::min(np_, je + sub);
+              if (before_chunk && je < jn) {
+                d.pf_begin = reinterpret_cast<const char*>(H + c_off_[je]);
+                d.pf_end = reinterpret_cast<const char*>(H + c_off_[jn - 1] + 3 * hessian_.leading_dim(jn - 1));
+              } else {
+                d.pf_begin = d.pf_end = nullptr;
+              }
               sum = linearize_points(d, jb, je, sum);
             }
           } else {
