@@ -103,7 +103,7 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T EpipolarSear
 }
 
 const std::vector<const char*> kOptionFields = {
-    "max_features", "min_distance_px", "klt_window", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
+    "max_features", "min_distance_px", "klt_window", "rlof_refine", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
     "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "known_rotation",
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
@@ -129,6 +129,8 @@ void init_frontend(py::module_& m) {
   field(opt, "max_features", &FeatureTrackerOptions::max_features, "features kept per frame");
   field(opt, "min_distance_px", &FeatureTrackerOptions::min_distance_px, "minimum distance between features");
   field(opt, "klt_window", &FeatureTrackerOptions::klt_window, "KLT window side (px, >= 3)");
+  field(opt, "rlof_refine", &FeatureTrackerOptions::rlof_refine,
+        "refine each KLT track by robust local optical flow (RLOF, cross-based support region, M-estimator)");
   field(opt, "forward_backward_px", &FeatureTrackerOptions::forward_backward_px, "KLT forward-backward check");
   field(opt, "ambiguity_px", &FeatureTrackerOptions::ambiguity_px, "KLT ambiguity check distance (0: off)");
   field(opt, "ambiguity_ratio", &FeatureTrackerOptions::ambiguity_ratio, "KLT ambiguity residual ratio");

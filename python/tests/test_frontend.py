@@ -126,6 +126,23 @@ def test_klt_window_option():
         sk.ImageFrontend(sk.FrontendOptions(klt_window=2))
 
 
+def test_rlof_refine_option():
+    assert sk.FrontendOptions().rlof_refine is False
+    o = sk.FrontendOptions(rlof_refine=True)
+    assert sk.ImageFrontend(o).options.rlof_refine is True and "rlof_refine=True" in repr(o)
+    # A textured image moved by (3, 2) px: refined tracks land on the shift.
+    rng = np.random.default_rng(5)
+    base = (rng.random((140, 140)) * 255).astype(np.uint8)
+    base = np.kron(base, np.ones((2, 2), np.uint8))[:240, :240]
+    f = sk.ImageFrontend(o)
+    r0 = f.process(np.ascontiguousarray(base[10:210, 10:210]))
+    r1 = f.process(np.ascontiguousarray(base[8:208, 7:207]))
+    first = dict(zip(r0.ids.tolist(), r0.uv))
+    shift = np.array([uv - first[i] for i, uv in zip(r1.ids.tolist(), r1.uv) if i in first])
+    assert len(shift) > 20
+    np.testing.assert_allclose(np.median(shift, axis=0), [3.0, 2.0], atol=0.05)
+
+
 def test_epipolar_search_options():
     o = sk.FrontendOptions()
     assert o.epipolar_search is False and o.epipolar_search_range_px == 0.0

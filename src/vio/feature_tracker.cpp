@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/optflow/rlofflow.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,34 @@ void check_image(const GrayImage& image, const char* what) {
 
 bool is_rotation(const Eigen::Matrix3d& R) {
   return R.allFinite() && (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0.0;
+}
+
+// Robust local optical flow (RLOF) from prev to cur, started at `to` (in place): cross-based
+// support regions (need three channels: the gray images are replicated) and the shrinked-Hampel
+// M-estimator; one pyramid level above the image (the start is KLT's flow). ok[i] = 0 where RLOF
+// gave no finite position. OpenCV 4.6 writes the result back only into a 1 × N matrix (it
+// copies a 1 × N result into the caller's matrix, which an N × 1 one would not receive).
+void rlof_refine(const cv::Mat& prev, const cv::Mat& cur, int window, const std::vector<cv::Point2f>& from,
+                 std::vector<cv::Point2f>* to, std::vector<uchar>* ok) {
+  cv::Mat prev3, cur3;
+  cv::cvtColor(prev, prev3, cv::COLOR_GRAY2BGR);
+  cv::cvtColor(cur, cur3, cv::COLOR_GRAY2BGR);
+  auto param = cv::makePtr<cv::optflow::RLOFOpticalFlowParameter>();
+  param->setSupportRegionType(cv::optflow::SR_CROSS);
+  param->setUseMEstimator(true);
+  param->setUseInitialFlow(true);
+  param->setUseGlobalMotionPrior(false);
+  param->setLargeWinSize(window);
+  param->setSmallWinSize(std::min(9, window));
+  param->setMaxLevel(1);
+  const int n = static_cast<int>(from.size());
+  cv::Mat from_m = cv::Mat(from, true).reshape(2, 1), to_m = cv::Mat(*to, true).reshape(2, 1);
+  std::vector<float> err;
+  cv::optflow::calcOpticalFlowSparseRLOF(prev3, cur3, from_m, to_m, *ok, err, param, 0.f);
+  for (int i = 0; i < n; ++i) {
+    const cv::Point2f q = to_m.at<cv::Point2f>(0, i);
+    if (std::isfinite(q.x) && std::isfinite(q.y)) (*to)[i] = q; else (*ok)[i] = 0;
+  }
 }
 
 }  // namespace
@@ -114,6 +143,7 @@ FeatureTracker::FeatureTracker(FeatureTrackerOptions o, GrayImage mask, std::sha
   if (!(o.quality_level > 0.0 && o.quality_level < 1.0)) throw std::invalid_argument("feature tracker: quality_level must be in (0, 1)");
   if (o.klt_window < 3 || o.klt_pyramid_levels < 0 || o.klt_max_iterations < 1 || o.block_size < 1)
     throw std::invalid_argument("feature tracker: klt_window >= 3, klt_pyramid_levels >= 0, klt_max_iterations >= 1, block_size >= 1");
+  if (!(o.rlof_max_shift_px > 0.0)) throw std::invalid_argument("feature tracker: rlof_max_shift_px > 0");
   if (o.grid_cols < 0 || o.grid_rows < 0 || (o.grid_cols > 0) != (o.grid_rows > 0))
     throw std::invalid_argument("feature tracker: grid_cols and grid_rows must both be 0 or both > 0");
   if (o.patch_half_px < 1 || !(o.min_patch_ncc <= 1.0))
@@ -216,6 +246,14 @@ TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix
       }
     }
     if (r.gyro_seeded && o.gyro_klt == GyroKlt::kCandidate) candidate(predicted);
+    // Robust refinement: RLOF from the previous position, started at KLT's (taken if it moved < the limit).
+    if (o.rlof_refine && !p0.empty()) {
+      std::vector<cv::Point2f> q = p1;
+      std::vector<uchar> ok;
+      rlof_refine(s.prev_image, image, o.klt_window, p0, &q, &ok);
+      for (std::size_t i = 0; i < p0.size(); ++i)
+        if (status[i] && ok[i] && cv::norm(q[i] - p1[i]) < o.rlof_max_shift_px) p1[i] = q[i], ++r.rlof_refined;
+    }
     const bool fb = o.forward_backward_px > 0.0;
     if (fb) {
       p0_back = p0;  // initial guess: where the feature started

@@ -54,6 +54,18 @@ assert off["features_refound_epipolar"] == 0 and on["features_refound_epipolar"]
 assert on["features_dynamic"] == off["features_dynamic"] - on["features_refound_epipolar"]
 assert on["share_dynamic"] <= 0.05, on["share_dynamic"]
 PY
+# 1d. The RLOF refinement (--rlof-refine on, off by default) is echoed in the JSON; aloe stays a
+#     rigid scene (measured 6 of 85 dynamic, as without it: docs/frontend.md, session 33).
+"$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe6" --json "$work/aloe6.json" \
+  --rlof-refine on --no-images >"$work/aloe6.txt" 2>&1 || fail "frontend on aloe with --rlof-refine on failed"
+python3 - "$work/aloe.json" "$work/aloe6.json" <<'PY' || fail "aloe with --rlof-refine on: options or share wrong"
+import json, sys
+off, on = (json.load(open(f)) for f in sys.argv[1:3])
+assert on["options"]["rlof_refine"] is True and off["options"]["rlof_refine"] is False
+assert on["share_dynamic"] <= 0.1, on["share_dynamic"]
+PY
+"$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe7" --rlof-refine maybe \
+  >"$work/e0c.txt" 2>&1 && fail "--rlof-refine maybe accepted"
 "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe4" --epipolar-search maybe \
   >"$work/e0.txt" 2>&1 && fail "--epipolar-search maybe accepted"
 "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe5" --epipolar-search on \

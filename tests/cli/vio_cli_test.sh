@@ -57,8 +57,9 @@ done
 [[ $? -eq 2 ]] && grep -q -- "--imu-rotation" "$work/e8.txt" || fail "--imu-rotation maybe: $(cat "$work/e8.txt")"
 "$slamkit" vio --sim room1 --duration 1 --images --data "$data" --rotation-prior-sigma -1 >"$work/e8.txt" 2>&1
 [[ $? -eq 2 ]] && grep -q -- "--rotation-prior-sigma" "$work/e8.txt" || fail "--rotation-prior-sigma -1: $(cat "$work/e8.txt")"
-# A KLT window or scoring patch out of range is a usage error (exit 2) naming the option.
-for bad in "--klt-window 2" "--score-patch-half -2"; do
+# A KLT window or scoring patch out of range, or an RLOF switch other than on/off, is a usage error
+# (exit 2) naming the option.
+for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe"; do
   # shellcheck disable=SC2086
   "$slamkit" vio --sim room1 --duration 1 --images --data "$data" $bad >"$work/e9.txt" 2>&1
   [[ $? -eq 2 ]] && grep -q -- "${bad%% *}" "$work/e9.txt" || fail "$bad: $(cat "$work/e9.txt")"

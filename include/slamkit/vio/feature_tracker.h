@@ -16,6 +16,11 @@
 //            and median-flow candidates and adds the predicted one (lowest residual wins, ambiguity
 //            rule as for the retry). No camera, no rotation or one that is not a finite rotation:
 //            the unseeded tracker, reported (TrackingResult::gyro_seeded = false)
+//   robust refine  optionally (rlof_refine) each KLT result is refined by robust local optical flow
+//            (OpenCV contrib's RLOF: a support region cut by cross-based segmentation of the patch
+//            and a shrinked-Hampel M-estimator, Senst et al. 2012-2016), started at KLT's flow; where
+//            the patch straddles a depth or motion edge, the pixels of the other surface are cut out
+//            or down-weighted instead of dragging the least-squares fit (docs/frontend.md)
 //   appearance  a track whose patch about its new position does not look like the patch about
 //            its old one (zero-mean NCC < min_patch_ncc) is lost: the corner is no surface point
 //            (an occlusion edge or a T-junction of surfaces at different depths, whose background
@@ -74,6 +79,11 @@ struct FeatureTrackerOptions {
   int patch_half_px = 7;          ///< NCC patch (2h+1)²
   /// KLT seeded by the gyroscope's rotation (needs a camera model and a rotation per frame).
   GyroKlt gyro_klt = GyroKlt::kOff;
+  /// Refine each KLT track by robust local optical flow (RLOF, cross-based support region,
+  /// M-estimator), started at KLT's result; off by default (docs/frontend.md, session 33).
+  bool rlof_refine = false;
+  /// A refinement that moves the track by this much or more is not taken (KLT's position is kept).
+  double rlof_max_shift_px = 3.0;
 };
 
 /// The infinite-depth prediction of raw pixel uv after the camera rotates by R_cur_prev
@@ -104,6 +114,7 @@ struct TrackingResult {
   int detected = 0;          ///< new corners this frame
   bool gyro_seeded = false;  ///< KLT was seeded by the rotation this frame (gyro_klt on, rotation usable)
   int predicted = 0;         ///< features whose seed is the rotation's prediction (the others: zero flow)
+  int rlof_refined = 0;      ///< tracks whose position the RLOF refinement replaced (rlof_refine)
   /// The previous/current pixel pairs of the tracked features, the input of DynamicFeatureFilter.
   void matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eigen::Vector2d>* cur,
                std::vector<std::int64_t>* ids = nullptr) const;
