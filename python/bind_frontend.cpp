@@ -129,8 +129,17 @@ void init_frontend(py::module_& m) {
   field(opt, "max_features", &FeatureTrackerOptions::max_features, "features kept per frame");
   field(opt, "min_distance_px", &FeatureTrackerOptions::min_distance_px, "minimum distance between features");
   field(opt, "klt_window", &FeatureTrackerOptions::klt_window, "KLT window side (px, >= 3)");
-  field(opt, "rlof_refine", &FeatureTrackerOptions::rlof_refine,
-        "refine each KLT track by robust local optical flow (RLOF, cross-based support region, M-estimator)");
+  opt.def_property(
+      "rlof_refine", [](const ImageFrontendOptions& o) { return std::string(rlof_refine_name(o.tracker.rlof_refine)); },
+      [](ImageFrontendOptions& o, const std::string& v) {
+        try {
+          o.tracker.rlof_refine = parse_rlof_refine(v);
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+      },
+      "robust local optical flow (RLOF) refinement: 'off', 'track' (= 'on': the tracks) or 'test' (only the "
+      "epipolar test's positions)");
   field(opt, "forward_backward_px", &FeatureTrackerOptions::forward_backward_px, "KLT forward-backward check");
   field(opt, "ambiguity_px", &FeatureTrackerOptions::ambiguity_px, "KLT ambiguity check distance (0: off)");
   field(opt, "ambiguity_ratio", &FeatureTrackerOptions::ambiguity_ratio, "KLT ambiguity residual ratio");

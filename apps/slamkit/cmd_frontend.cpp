@@ -152,7 +152,7 @@ void run_frontend(const FrontendCliOptions& o) {
   j["input"] = source.description();
   j["camera"] = camera ? camera->model_name() : "none";
   j["options"] = {{"max_features", o.tracker.max_features}, {"min_distance_px", o.tracker.min_distance_px},
-                  {"forward_backward_px", o.tracker.forward_backward_px}, {"klt_window", o.tracker.klt_window}, {"rlof_refine", o.tracker.rlof_refine},
+                  {"forward_backward_px", o.tracker.forward_backward_px}, {"klt_window", o.tracker.klt_window}, {"rlof_refine", rlof_refine_name(o.tracker.rlof_refine)},
                   {"klt_pyramid_levels", o.tracker.klt_pyramid_levels}, {"grid", o.tracker.grid_cols},
                   {"max_residual_ratio", o.tracker.max_residual_ratio},
                   {"threshold_px", o.filter.threshold_px},
@@ -206,9 +206,10 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--klt-window", o->tracker.klt_window, "KLT window side (px)")->check(CLI::Range(3, 101))
       ->capture_default_str();
   sub->add_option_function<std::string>(
-         "--rlof-refine", [o](const std::string& v) { o->tracker.rlof_refine = v == "on"; },
-         "refine each KLT track by robust local optical flow (RLOF: cross-based support region, M-estimator) [off]")
-      ->check(CLI::IsMember({"on", "off"}));
+         "--rlof-refine", [o](const std::string& v) { o->tracker.rlof_refine = parse_rlof_refine(v); },
+         "refine by robust local optical flow (RLOF: cross-based support region, M-estimator): off, track (= on: the "
+         "tracks) or test (only the positions the epipolar test reads) [off]")
+      ->check(CLI::IsMember({"off", "on", "track", "test"}));
   sub->add_option("--fb-threshold", o->tracker.forward_backward_px, "forward-backward check (px; 0: off)")
       ->check(CLI::Range(0.0, 100.0))->capture_default_str();
   sub->add_option("--max-residual-ratio", o->tracker.max_residual_ratio,

@@ -127,9 +127,12 @@ def test_klt_window_option():
 
 
 def test_rlof_refine_option():
-    assert sk.FrontendOptions().rlof_refine is False
-    o = sk.FrontendOptions(rlof_refine=True)
-    assert sk.ImageFrontend(o).options.rlof_refine is True and "rlof_refine=True" in repr(o)
+    assert sk.FrontendOptions().rlof_refine == "off"
+    assert sk.FrontendOptions(rlof_refine="test").rlof_refine == "test"
+    with pytest.raises(ValueError, match="rlof_refine"):
+        sk.FrontendOptions(rlof_refine="yes")
+    o = sk.FrontendOptions(rlof_refine="on")
+    assert sk.ImageFrontend(o).options.rlof_refine == "track" and "rlof_refine='track'" in repr(o)
     # A textured image moved by (3, 2) px: refined tracks land on the shift.
     rng = np.random.default_rng(5)
     base = (rng.random((140, 140)) * 255).astype(np.uint8)

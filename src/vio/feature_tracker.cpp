@@ -61,6 +61,22 @@ void rlof_refine(const cv::Mat& prev, const cv::Mat& cur, int window, const std:
 
 }  // namespace
 
+const char* rlof_refine_name(RlofRefine mode) {
+  switch (mode) {
+    case RlofRefine::kOff: return "off";
+    case RlofRefine::kTrack: return "track";
+    case RlofRefine::kTest: return "test";
+  }
+  return "?";
+}
+
+RlofRefine parse_rlof_refine(const std::string& name) {
+  if (name == "off") return RlofRefine::kOff;
+  if (name == "track" || name == "on") return RlofRefine::kTrack;
+  if (name == "test") return RlofRefine::kTest;
+  throw std::invalid_argument("rlof_refine: '" + name + "' is not off, track (on) or test");
+}
+
 const char* gyro_klt_name(GyroKlt mode) {
   switch (mode) {
     case GyroKlt::kSeed: return "seed";
@@ -167,7 +183,7 @@ void FeatureTracker::relocate(const std::vector<std::int64_t>& ids, const std::v
   if (ids.size() != uv.size()) throw std::invalid_argument("feature tracker: relocate needs one position per id");
   for (std::size_t k = 0; k < ids.size(); ++k)
     for (TrackedFeature& t : state_->features)
-      if (t.id == ids[k]) t.uv = uv[k];
+      if (t.id == ids[k]) t.uv = t.uv_test = uv[k];
 }
 
 TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix3d* R_cur_prev) {
@@ -246,13 +262,29 @@ TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix
       }
     }
     if (r.gyro_seeded && o.gyro_klt == GyroKlt::kCandidate) candidate(predicted);
-    // Robust refinement: RLOF from the previous position, started at KLT's (taken if it moved < the limit).
-    if (o.rlof_refine && !p0.empty()) {
-      std::vector<cv::Point2f> q = p1;
+    // Robust refinement: RLOF from the previous position, started where KLT's flow puts it, taken
+    // if it lands closer than the limit to that start. kTrack refines the track; kTest the test
+    // chain (from its own previous position, moved by KLT's flow; restarted at KLT's position when
+    // the refinement is not taken).
+    std::vector<cv::Point2f> p1_test;
+    if (o.rlof_refine != RlofRefine::kOff && !p0.empty()) {
+      const bool test = o.rlof_refine == RlofRefine::kTest;
+      std::vector<cv::Point2f> from = p0, q = p1;
+      if (test)
+        for (std::size_t i = 0; i < p0.size(); ++i) {
+          const Eigen::Vector2d& t = s.features[i].uv_test;
+          from[i] = cv::Point2f(float(t.x()), float(t.y()));
+          q[i] = from[i] + (p1[i] - p0[i]);
+        }
+      const std::vector<cv::Point2f> start = q;
       std::vector<uchar> ok;
-      rlof_refine(s.prev_image, image, o.klt_window, p0, &q, &ok);
-      for (std::size_t i = 0; i < p0.size(); ++i)
-        if (status[i] && ok[i] && cv::norm(q[i] - p1[i]) < o.rlof_max_shift_px) p1[i] = q[i], ++r.rlof_refined;
+      rlof_refine(s.prev_image, image, o.klt_window, from, &q, &ok);
+      if (test) p1_test = p1;
+      for (std::size_t i = 0; i < p0.size(); ++i) {
+        if (!status[i] || !ok[i] || !(cv::norm(q[i] - start[i]) < o.rlof_max_shift_px)) continue;
+        (test ? p1_test : p1)[i] = q[i];
+        ++r.rlof_refined;
+      }
     }
     const bool fb = o.forward_backward_px > 0.0;
     if (fb) {
@@ -286,6 +318,7 @@ TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix
       TrackedFeature t = s.features[i];
       t.prev_uv = t.uv;
       t.uv = Eigen::Vector2d(x, y);
+      t.uv_test = p1_test.empty() ? t.uv : Eigen::Vector2d(p1_test[i].x, p1_test[i].y);
       ++t.age;
       kept.push_back(t);
     }
@@ -329,7 +362,7 @@ TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix
         continue;
       TrackedFeature t;
       t.id = s.next_id++;
-      t.uv = t.prev_uv = Eigen::Vector2d(p.x, p.y);
+      t.uv = t.prev_uv = t.uv_test = Eigen::Vector2d(p.x, p.y);
       t.age = 0;
       s.features.push_back(t);
       ++r.detected;

@@ -56,8 +56,10 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   const int k = options_.baseline_frames;
   const std::vector<TrackedFeature>& tracked = out.tracking.features;
   out.features.resize(tracked.size());
-  std::vector<Eigen::Vector2d> uv_now(tracked.size());  // current pixels; the re-search may move them
-  for (std::size_t i = 0; i < tracked.size(); ++i) uv_now[i] = tracked[i].uv;
+  // Current pixels of the test (the tracks', or their RLOF test chain's); the re-search may move them.
+  std::vector<Eigen::Vector2d> uv_now(tracked.size());
+  for (std::size_t i = 0; i < tracked.size(); ++i) uv_now[i] = tracked[i].uv_test;
+  std::vector<char> refound(tracked.size(), 0);
   bool moved = false;
   for (std::size_t i = 0; i < tracked.size(); ++i) {
     out.features[i].id = tracked[i].id;
@@ -108,7 +110,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
       const EpipolarSearchResult s =
           search_along_epipolar(frames_[b - 1], frame, p1, &p2, filter, &c, options_.epipolar_search, &tested);
       for (std::size_t m = 0; m < index.size(); ++m)
-        if (s.refound[m]) uv_now[index[m]] = p2[m], moved = true;
+        if (s.refound[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
       out.n_refound_epipolar += s.refound_count;
     }
     if (b == longest) out.status = c.status, out.motion_model = c.motion_model;
@@ -126,12 +128,14 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     std::vector<std::int64_t> ids;
     std::vector<Eigen::Vector2d> uv;
     for (std::size_t i = 0; i < out.features.size(); ++i)
-      if (uv_now[i] != out.features[i].uv) {
+      if (refound[i]) {
         out.features[i].uv = out.tracking.features[i].uv = uv_now[i];
         ids.push_back(out.features[i].id), uv.push_back(uv_now[i]);
       }
     tracker_.relocate(ids, uv);
   }
+  // The test positions travel with their features (drops below compact the lists); the history keeps them.
+  for (std::size_t i = 0; i < uv_now.size(); ++i) out.tracking.features[i].uv_test = uv_now[i];
   // Drops the rejected tracks from the tracker and out (keep[i] = 0), in order; returns how many.
   const auto drop_rejected = [&](const std::vector<std::int64_t>& rejected, const std::vector<char>& keep) {
     if (rejected.empty()) return 0;
@@ -209,7 +213,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   // History: this frame becomes t − 1.
   std::unordered_map<std::int64_t, Eigen::Vector2d> now;
   now.reserve(tracked.size());
-  for (const TrackedFeature& f : tracked) now.emplace(f.id, f.uv);
+  for (const TrackedFeature& f : tracked) now.emplace(f.id, f.uv_test);
   history_.push_front(std::move(now));
   while (static_cast<int>(history_.size()) > k) history_.pop_back();
   rotations_.push_front(R_cur_prev ? std::optional<Eigen::Matrix3d>(*R_cur_prev) : std::nullopt);

@@ -61,7 +61,7 @@ PY
 python3 - "$work/aloe.json" "$work/aloe6.json" <<'PY' || fail "aloe with --rlof-refine on: options or share wrong"
 import json, sys
 off, on = (json.load(open(f)) for f in sys.argv[1:3])
-assert on["options"]["rlof_refine"] is True and off["options"]["rlof_refine"] is False
+assert on["options"]["rlof_refine"] == "track" and off["options"]["rlof_refine"] == "off"
 assert on["share_dynamic"] <= 0.1, on["share_dynamic"]
 PY
 "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe7" --rlof-refine maybe \

@@ -107,12 +107,13 @@ TEST(FeatureTracker, RlofRefinementKeepsBackgroundTracksAtAMotionEdge) {
             y >= 80 && y < 160 && x >= x0 && x < x0 + 60 ? square(y - 80, x - x0) : background(y, x);
     return g;
   };
-  auto edge_errors = [&](bool refine, int* refined) {
+  // Errors of the background tracks next to the square (truth: no motion), of uv or of uv_test.
+  auto edge_errors = [&](RlofRefine mode, bool test_positions, int* refined) {
     std::vector<double> errors;
     *refined = 0;
     for (int dx : {3, 5, 7}) {
       FeatureTrackerOptions o;
-      o.max_features = 300, o.min_distance_px = 8, o.rlof_refine = refine;
+      o.max_features = 300, o.min_distance_px = 8, o.rlof_refine = mode;
       FeatureTracker tracker(o);
       tracker.track(frame(90));
       const TrackingResult r = tracker.track(frame(90 + dx));
@@ -121,29 +122,36 @@ TEST(FeatureTracker, RlofRefinementKeepsBackgroundTracksAtAMotionEdge) {
         const Eigen::Vector2d p = f.prev_uv;
         const bool on_square = p.y() >= 80 && p.y() < 160 && p.x() >= 90 && p.x() < 150;
         const bool near_edge = p.y() >= 70 && p.y() < 170 && p.x() >= 80 && p.x() < 160 + dx;
-        if (f.age > 0 && !on_square && near_edge) errors.push_back((f.uv - p).norm());  // truth: no motion
+        if (f.age > 0 && !on_square && near_edge) errors.push_back(((test_positions ? f.uv_test : f.uv) - p).norm());
+        if (mode != RlofRefine::kTest) EXPECT_EQ(f.uv_test, f.uv) << "id " << f.id;
       }
     }
     std::sort(errors.begin(), errors.end());
     return errors;
   };
-  int refined_klt = 0, refined_rlof = 0;
-  const std::vector<double> klt = edge_errors(false, &refined_klt), rlof = edge_errors(true, &refined_rlof);
+  int refined_klt = 0, refined_rlof = 0, refined_test = 0, unused = 0;
+  const std::vector<double> klt = edge_errors(RlofRefine::kOff, false, &refined_klt),
+                            rlof = edge_errors(RlofRefine::kTrack, false, &refined_rlof),
+                            test_uv = edge_errors(RlofRefine::kTest, false, &unused),
+                            test = edge_errors(RlofRefine::kTest, true, &refined_test);
   ASSERT_GE(klt.size(), 30u);
   ASSERT_GE(rlof.size(), 30u);
   EXPECT_EQ(refined_klt, 0);
   EXPECT_GT(refined_rlof, 30);
-  const double klt_median = klt[klt.size() / 2], rlof_median = rlof[rlof.size() / 2];
-  std::printf("background tracks at the edge: median error KLT %.3f px, with RLOF %.3f px (%zu / %zu tracks)\n",
-              klt_median, rlof_median, klt.size(), rlof.size());
+  EXPECT_GT(refined_test, 30);
+  EXPECT_EQ(test_uv, klt);  // kTest leaves the tracks to KLT
+  const double klt_median = klt[klt.size() / 2], rlof_median = rlof[rlof.size() / 2], test_median = test[test.size() / 2];
+  std::printf("background tracks at the edge: median error KLT %.3f px, RLOF tracks %.3f px, RLOF test chain %.3f px "
+              "(%zu / %zu / %zu tracks)\n", klt_median, rlof_median, test_median, klt.size(), rlof.size(), test.size());
   EXPECT_LT(rlof_median, 0.5 * klt_median);
+  EXPECT_LT(test_median, 0.5 * klt_median);
 
   // A clean sub-pixel shift (area-rendered rectangles): the refined tracks recover it, but less
   // exactly than KLT's (the price of the robust support region; measured, docs/frontend.md).
   const RectTexture tex(250, 256, 11);
   auto shift_errors = [&](bool refine) {
     FeatureTrackerOptions o;
-    o.max_features = 60, o.min_distance_px = 20, o.rlof_refine = refine;
+    o.max_features = 60, o.min_distance_px = 20, o.rlof_refine = refine ? RlofRefine::kTrack : RlofRefine::kOff;
     FeatureTracker tracker(o);
     tracker.track(tex.render(256, 0.0, 0.0));
     std::vector<double> e;
@@ -161,6 +169,9 @@ TEST(FeatureTracker, RlofRefinementKeepsBackgroundTracksAtAMotionEdge) {
   FeatureTrackerOptions bad;
   bad.rlof_max_shift_px = 0.0;
   EXPECT_THROW(FeatureTracker{bad}, std::invalid_argument);
+  EXPECT_EQ(parse_rlof_refine("on"), RlofRefine::kTrack);
+  EXPECT_STREQ(rlof_refine_name(parse_rlof_refine("test")), "test");
+  EXPECT_THROW(parse_rlof_refine("yes"), std::invalid_argument);
 }
 
 TEST(FeatureTracker, MaskKeepsCornersOutAndDropFreesNeighbourhoods) {

@@ -41,6 +41,15 @@ namespace slamkit {
 
 class CameraModel;
 
+/// What the RLOF refinement (see the header comment) changes: nothing (kOff), the tracks
+/// themselves (kTrack: every consumer sees the refined positions), or only the positions the
+/// epipolar test reads (kTest: a second chain, TrackedFeature::uv_test, refined frame to frame from
+/// its own previous position; the tracks, and so the estimator, keep KLT's positions).
+enum class RlofRefine { kOff, kTrack, kTest };
+const char* rlof_refine_name(RlofRefine mode);  ///< "off", "track", "test"
+/// "off", "track" (alias "on"), "test"; std::invalid_argument otherwise.
+RlofRefine parse_rlof_refine(const std::string& name);
+
 /// How the gyroscope's rotation seeds KLT (see the header comment).
 enum class GyroKlt { kOff, kSeed, kCandidate };
 const char* gyro_klt_name(GyroKlt mode);  ///< "off", "seed", "candidate"
@@ -79,10 +88,11 @@ struct FeatureTrackerOptions {
   int patch_half_px = 7;          ///< NCC patch (2h+1)²
   /// KLT seeded by the gyroscope's rotation (needs a camera model and a rotation per frame).
   GyroKlt gyro_klt = GyroKlt::kOff;
-  /// Refine each KLT track by robust local optical flow (RLOF, cross-based support region,
-  /// M-estimator), started at KLT's result; off by default (docs/frontend.md, session 33).
-  bool rlof_refine = false;
-  /// A refinement that moves the track by this much or more is not taken (KLT's position is kept).
+  /// Refine by robust local optical flow (RLOF, cross-based support region, M-estimator), started
+  /// at KLT's flow: off, the tracks, or only the test positions (docs/frontend.md, session 33).
+  RlofRefine rlof_refine = RlofRefine::kOff;
+  /// A refinement that moves the position this far or farther from where KLT's flow puts it is not
+  /// taken (kTrack: KLT's position is kept; kTest: the test chain restarts at KLT's position).
   double rlof_max_shift_px = 3.0;
 };
 
@@ -101,6 +111,8 @@ struct TrackedFeature {
   std::int64_t id = -1;
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();       ///< position in the current frame (px)
   Eigen::Vector2d prev_uv = Eigen::Vector2d::Zero();  ///< position in the previous frame (age > 0)
+  /// Position for the epipolar test: uv, except with rlof_refine = kTest (its own RLOF chain).
+  Eigen::Vector2d uv_test = Eigen::Vector2d::Zero();
   int age = 0;  ///< frames this feature has been tracked; 0: detected in this frame
 };
 
@@ -114,7 +126,7 @@ struct TrackingResult {
   int detected = 0;          ///< new corners this frame
   bool gyro_seeded = false;  ///< KLT was seeded by the rotation this frame (gyro_klt on, rotation usable)
   int predicted = 0;         ///< features whose seed is the rotation's prediction (the others: zero flow)
-  int rlof_refined = 0;      ///< tracks whose position the RLOF refinement replaced (rlof_refine)
+  int rlof_refined = 0;      ///< tracks (kTrack) or test positions (kTest) the RLOF refinement moved
   /// The previous/current pixel pairs of the tracked features, the input of DynamicFeatureFilter.
   void matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eigen::Vector2d>* cur,
                std::vector<std::int64_t>* ids = nullptr) const;
