@@ -102,8 +102,25 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T EpipolarSear
       [member](ImageFrontendOptions& o, T v) { o.epipolar_search.*member = v; }, doc);
 }
 
+// A tracker option that is an enum, exposed by its name (ValueError on an unknown one).
+template <class E>
+void named_field(py::class_<ImageFrontendOptions>& c, const char* name, E FeatureTrackerOptions::*member,
+                 const char* (*to_name)(E), E (*parse)(const std::string&), const char* doc) {
+  c.def_property(
+      name, [member, to_name](const ImageFrontendOptions& o) { return std::string(to_name(o.tracker.*member)); },
+      [member, parse](ImageFrontendOptions& o, const std::string& v) {
+        try {
+          o.tracker.*member = parse(v);
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+      },
+      doc);
+}
+
 const std::vector<const char*> kOptionFields = {
-    "max_features", "min_distance_px", "klt_window", "rlof_refine", "forward_backward_px", "ambiguity_px", "ambiguity_ratio", "threshold_px",
+    "max_features", "min_distance_px", "klt_window", "rlof_refine", "forward_backward_px", "ambiguity_px",
+    "ambiguity_ratio", "threshold_px",
     "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "known_rotation",
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
@@ -129,17 +146,9 @@ void init_frontend(py::module_& m) {
   field(opt, "max_features", &FeatureTrackerOptions::max_features, "features kept per frame");
   field(opt, "min_distance_px", &FeatureTrackerOptions::min_distance_px, "minimum distance between features");
   field(opt, "klt_window", &FeatureTrackerOptions::klt_window, "KLT window side (px, >= 3)");
-  opt.def_property(
-      "rlof_refine", [](const ImageFrontendOptions& o) { return std::string(rlof_refine_name(o.tracker.rlof_refine)); },
-      [](ImageFrontendOptions& o, const std::string& v) {
-        try {
-          o.tracker.rlof_refine = parse_rlof_refine(v);
-        } catch (const std::invalid_argument& e) {
-          throw py::value_error(e.what());
-        }
-      },
-      "robust local optical flow (RLOF) refinement: 'off', 'track' (= 'on': the tracks) or 'test' (only the "
-      "epipolar test's positions)");
+  named_field(opt, "rlof_refine", &FeatureTrackerOptions::rlof_refine, rlof_refine_name, parse_rlof_refine,
+              "robust local optical flow (RLOF) refinement: 'off', 'track' (= 'on': the tracks) or 'test' (only the "
+              "epipolar test's positions)");
   field(opt, "forward_backward_px", &FeatureTrackerOptions::forward_backward_px, "KLT forward-backward check");
   field(opt, "ambiguity_px", &FeatureTrackerOptions::ambiguity_px, "KLT ambiguity check distance (0: off)");
   field(opt, "ambiguity_ratio", &FeatureTrackerOptions::ambiguity_ratio, "KLT ambiguity residual ratio");
@@ -166,16 +175,8 @@ void init_frontend(py::module_& m) {
   field(opt, "epipolar_search_ncc_drop", &EpipolarSearchOptions::max_ncc_drop,
         "re-found iff its patch NCC >= the track's minus this");
   field(opt, "epipolar_search_min_ncc", &EpipolarSearchOptions::min_ncc, "and its patch NCC >= this");
-  opt.def_property(
-      "gyro_klt", [](const ImageFrontendOptions& o) { return std::string(gyro_klt_name(o.tracker.gyro_klt)); },
-      [](ImageFrontendOptions& o, const std::string& v) {
-        try {
-          o.tracker.gyro_klt = parse_gyro_klt(v);
-        } catch (const std::invalid_argument& e) {
-          throw py::value_error(e.what());
-        }
-      },
-      "KLT seeded by the rotation given to process(): 'off', 'seed' ('on') or 'candidate'");
+  named_field(opt, "gyro_klt", &FeatureTrackerOptions::gyro_klt, gyro_klt_name, parse_gyro_klt,
+              "KLT seeded by the rotation given to process(): 'off', 'seed' ('on') or 'candidate'");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")
       .def_readwrite("consistency_checks", &ImageFrontendOptions::consistency_checks)
       .def_readwrite("consistency_hits", &ImageFrontendOptions::consistency_hits)

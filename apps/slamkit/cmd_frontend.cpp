@@ -152,7 +152,8 @@ void run_frontend(const FrontendCliOptions& o) {
   j["input"] = source.description();
   j["camera"] = camera ? camera->model_name() : "none";
   j["options"] = {{"max_features", o.tracker.max_features}, {"min_distance_px", o.tracker.min_distance_px},
-                  {"forward_backward_px", o.tracker.forward_backward_px}, {"klt_window", o.tracker.klt_window}, {"rlof_refine", rlof_refine_name(o.tracker.rlof_refine)},
+                  {"forward_backward_px", o.tracker.forward_backward_px}, {"klt_window", o.tracker.klt_window},
+                  {"rlof_refine", rlof_refine_name(o.tracker.rlof_refine)},
                   {"klt_pyramid_levels", o.tracker.klt_pyramid_levels}, {"grid", o.tracker.grid_cols},
                   {"max_residual_ratio", o.tracker.max_residual_ratio},
                   {"threshold_px", o.filter.threshold_px},

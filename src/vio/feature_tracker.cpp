@@ -31,16 +31,13 @@ bool is_rotation(const Eigen::Matrix3d& R) {
   return R.allFinite() && (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0.0;
 }
 
-// Robust local optical flow (RLOF) from prev to cur, started at `to` (in place): cross-based
-// support regions (need three channels: the gray images are replicated) and the shrinked-Hampel
+// Robust local optical flow (RLOF) from prev3 to cur3, started at `to` (in place): cross-based
+// support regions (they need three channels: the gray frames replicated) and the shrinked-Hampel
 // M-estimator; one pyramid level above the image (the start is KLT's flow). ok[i] = 0 where RLOF
 // gave no finite position. OpenCV 4.6 writes the result back only into a 1 × N matrix (it
 // copies a 1 × N result into the caller's matrix, which an N × 1 one would not receive).
-void rlof_refine(const cv::Mat& prev, const cv::Mat& cur, int window, const std::vector<cv::Point2f>& from,
+void rlof_refine(const cv::Mat& prev3, const cv::Mat& cur3, int window, const std::vector<cv::Point2f>& from,
                  std::vector<cv::Point2f>* to, std::vector<uchar>* ok) {
-  cv::Mat prev3, cur3;
-  cv::cvtColor(prev, prev3, cv::COLOR_GRAY2BGR);
-  cv::cvtColor(cur, cur3, cv::COLOR_GRAY2BGR);
   auto param = cv::makePtr<cv::optflow::RLOFOpticalFlowParameter>();
   param->setSupportRegionType(cv::optflow::SR_CROSS);
   param->setUseMEstimator(true);
@@ -146,6 +143,7 @@ void TrackingResult::matches(std::vector<Eigen::Vector2d>* prev, std::vector<Eig
 struct FeatureTracker::State {
   GrayImage mask;
   cv::Mat prev_image;              // a deep copy of the last frame
+  cv::Mat prev_image3;             // the last frame in three channels (RLOF), when rlof_refine is on
   std::vector<cv::Mat> prev_pyramid;
   GrayImage prev_frame;            // the last frame as a plain buffer (appearance check)
   std::vector<TrackedFeature> features;
@@ -201,6 +199,7 @@ TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix
   const cv::Mat image = wrap(frame).clone();
   const cv::Size window(o.klt_window, o.klt_window);
   std::vector<cv::Mat> pyramid;
+  cv::Mat image3;  // the frame in three channels, formed when RLOF runs (kept for the next frame)
   cv::buildOpticalFlowPyramid(image, pyramid, window, o.klt_pyramid_levels);
   TrackingResult r;
 
@@ -278,7 +277,9 @@ TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix
         }
       const std::vector<cv::Point2f> start = q;
       std::vector<uchar> ok;
-      rlof_refine(s.prev_image, image, o.klt_window, from, &q, &ok);
+      if (s.prev_image3.empty()) cv::cvtColor(s.prev_image, s.prev_image3, cv::COLOR_GRAY2BGR);
+      cv::cvtColor(image, image3, cv::COLOR_GRAY2BGR);
+      rlof_refine(s.prev_image3, image3, o.klt_window, from, &q, &ok);
       if (test) p1_test = p1;
       for (std::size_t i = 0; i < p0.size(); ++i) {
         if (!status[i] || !ok[i] || !(cv::norm(q[i] - start[i]) < o.rlof_max_shift_px)) continue;
@@ -370,6 +371,7 @@ TrackingResult FeatureTracker::track(const GrayImage& frame, const Eigen::Matrix
   }
   r.features = s.features;
   s.prev_image = image;
+  s.prev_image3 = image3;  // empty unless RLOF ran: the next call converts the previous frame then
   if (o.min_patch_ncc > -1.0) s.prev_frame = frame;
   s.prev_pyramid = std::move(pyramid);
   return r;
