@@ -23,6 +23,8 @@ struct VioResult {
   double solve_ms_mean = 0.0, marginalization_ms_mean = 0.0;
   double static_ratio_mean = 1.0, static_ratio_min = 1.0;
   std::string startup_method, startup_message;
+  double startup_rotation_rms_deg = 0.0, startup_scale_rel_sigma = 0.0;
+  int startup_dynamic_left_out = 0;
 };
 
 VioResult to_result(const VioRunResult& r) {
@@ -33,6 +35,8 @@ VioResult to_result(const VioRunResult& r) {
   out.wall_time_s = r.wall_time_s, out.cpu_time_s = r.cpu_time_s, out.sequence_duration_s = r.sequence_duration_s;
   out.realtime_factor = r.sequence_duration_s / std::max(1e-9, r.wall_time_s);
   out.startup_method = r.startup.method, out.startup_message = r.startup.message;
+  out.startup_rotation_rms_deg = r.startup.rotation_rms_deg, out.startup_dynamic_left_out = r.startup.dynamic_left_out;
+  out.startup_scale_rel_sigma = r.startup.scale_rel_sigma;
   double solve = 0.0, marg = 0.0, m_sum = 0.0;
   for (const FrameEstimate& e : r.frames) {
     solve += e.solve_ms, marg += e.marginalization_ms, m_sum += e.static_ratio;
@@ -81,6 +85,12 @@ void init_vio(py::module_& m) {
       .def_readonly("static_ratio_min", &VioResult::static_ratio_min)
       .def_readonly("startup_method", &VioResult::startup_method)
       .def_readonly("startup_message", &VioResult::startup_message)
+      .def_readonly("startup_rotation_rms_deg", &VioResult::startup_rotation_rms_deg,
+                    "the accepted start-up window's SfM rotations against the gyroscope (RMS, deg)")
+      .def_readonly("startup_scale_rel_sigma", &VioResult::startup_scale_rel_sigma,
+                    "the accepted start-up window's scale standard deviation / scale")
+      .def_readonly("startup_dynamic_left_out", &VioResult::startup_dynamic_left_out,
+                    "dynamic-flagged observations the start-up SfM left out (DVI)")
       .def("__repr__", [](const VioResult& r) {
         return "VioResult(frames=" + std::to_string(r.frames) + ", keyframes=" + std::to_string(r.keyframes) +
                ", realtime_factor=" + std::to_string(r.realtime_factor) + ")";
@@ -111,7 +121,8 @@ void init_vio(py::module_& m) {
   m.def(
       "run_vio",
       [](const VisualInertialSim& sim, int window_size, int max_iterations, int threads, const std::string& solver,
-         bool dvi, const std::string& alpha, const std::string& theta, bool ground_truth_start) {
+         bool dvi, const std::string& alpha, const std::string& theta, bool ground_truth_start, bool dvi_startup,
+         double max_rotation_rms_deg, double max_scale_rel_sigma) {
         if (window_size < 2) throw py::value_error("window_size: must be >= 2");
         if (max_iterations < 1) throw py::value_error("max_iterations: must be >= 1");
         if (threads < 1 || threads > 256) throw py::value_error("threads: must be in [1, 256]");
@@ -126,16 +137,25 @@ void init_vio(py::module_& m) {
         parse_dvi_theta(theta, &so.dvi);
         VioStartupOptions startup;
         startup.use_ground_truth = ground_truth_start;
+        startup.dvi_startup = dvi_startup;
+        if (!(max_rotation_rms_deg >= 0.0)) throw py::value_error("max_rotation_rms_deg: must be >= 0 (0: off)");
+        startup.alignment.max_rotation_rms_deg = max_rotation_rms_deg;
+        if (!(max_scale_rel_sigma >= 0.0)) throw py::value_error("max_scale_rel_sigma: must be >= 0 (0: off)");
+        startup.alignment.max_scale_rel_sigma = max_scale_rel_sigma;
         py::gil_scoped_release release;
         return to_result(run_vio_on_sim(sim, so, {}, startup));
       },
       py::arg("sim"), py::arg("window_size") = 10, py::arg("max_iterations") = 4, py::arg("threads") = 1,
       py::arg("solver") = "dense", py::arg("dvi") = false, py::arg("alpha") = "M^2", py::arg("theta") = "0.5",
-      py::arg("ground_truth_start") = false,
+      py::arg("ground_truth_start") = false, py::arg("dvi_startup") = true, py::arg("max_rotation_rms_deg") = 2.0,
+      py::arg("max_scale_rel_sigma") = 0.25,
       "The sliding-window visual-inertial estimator on a simulated run, as `slamkit vio --sim`: starts with the "
       "visual-inertial initializer (no ground truth after the first frame) unless ground_truth_start. dvi=True "
       "weighs a frame's visual factors by alpha(M) ('1', 'M', 'M^k') and drops them when M < theta (a number in "
-      "[0, 1] or 'adaptive'); dvi=False is the baseline. Results are identical for any thread count.");
+      "[0, 1] or 'adaptive'); dvi=False is the baseline. With dvi and dvi_startup the start-up SfM leaves out "
+      "dynamic-flagged features; a start-up window whose SfM rotations disagree with the gyroscope by more than "
+      "max_rotation_rms_deg (RMS; 0: off), or whose scale has a relative standard deviation above "
+      "max_scale_rel_sigma (0: off), is refused. Results are identical for any thread count.");
 }
 
 }  // namespace slamkit::python

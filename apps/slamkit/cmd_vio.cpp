@@ -35,6 +35,9 @@ struct VioCliOptions {
   std::uint64_t seed = 1;
   double duration = 0.0;
   bool ground_truth_start = false;
+  std::string dvi_startup = "on";        // DVI: the start-up SfM leaves out dynamic-flagged features
+  double max_rotation_rms_deg = 2.0;     // start-up: SfM rotations against the gyroscope
+  double max_scale_rel_sigma = 0.25;     // start-up: the scale's σ / scale
   int window = 10;
   int max_iterations = 4;  // measured: 4 beats 8 on ATE and time (docs/vio.md)
   int threads = 1;         // window solver threads (results identical for any count)
@@ -68,6 +71,9 @@ void run_vio(const VioCliOptions& o) {
       o.images ? image_vio_run(io, &frontend, o.json == "-" ? std::cerr : std::cout) : load_visual_inertial_run(o);
   VioStartupOptions startup;
   startup.use_ground_truth = o.ground_truth_start;
+  startup.dvi_startup = o.dvi_startup == "on";
+  startup.alignment.max_rotation_rms_deg = o.max_rotation_rms_deg;
+  startup.alignment.max_scale_rel_sigma = o.max_scale_rel_sigma;
   SlidingWindowOptions so;
   so.window_size = o.window;
   so.max_iterations = o.max_iterations;
@@ -170,7 +176,9 @@ void run_vio(const VioCliOptions& o) {
                          {"window_frames", su.window_frames}, {"window_start_s", su.window_start_s},
                          {"window_end_s", su.window_end_s}, {"scale_error", su.scale_error},
                          {"gravity_error_deg", su.gravity_error_deg}, {"velocity_error_mps", su.velocity_error},
-                         {"gyro_bias_error", su.gyro_bias_error}};
+                         {"gyro_bias_error", su.gyro_bias_error}, {"rotation_rms_deg", su.rotation_rms_deg},
+                         {"scale_rel_sigma", su.scale_rel_sigma},
+                         {"dynamic_left_out", su.dynamic_left_out}};
   char line[240];
   std::snprintf(line, sizeof line,
                 "ATE RMSE %.4f m (SE(3) alignment), RPE RMSE %.4f m over 1 s, %zu keyframes, %.1f features/frame,"
@@ -207,6 +215,14 @@ void add_vio_command(CLI::App& app) {
   sub->add_option("--data", o->data, "datasets folder (default: $SLAMKIT_DATA or ../shared/datasets)");
   sub->add_flag("--ground-truth-start", o->ground_truth_start,
                 "start from the true state at the first moving frame instead of the initializer (comparison)");
+  sub->add_option("--dvi-startup", o->dvi_startup, "with --dvi on: the start-up SfM leaves out dynamic-flagged features")
+      ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
+  sub->add_option("--max-rotation-rms", o->max_rotation_rms_deg,
+                  "start-up: refuse a window whose SfM rotations disagree with the gyroscope by more (RMS, deg; 0: off)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  sub->add_option("--max-scale-sigma", o->max_scale_rel_sigma,
+                  "start-up: refuse a window whose scale has a larger relative standard deviation (0: off)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
   sub->add_option("--window", o->window, "keyframes in the window")->check(CLI::Range(2, 100))->capture_default_str();
   sub->add_option("--max-iterations", o->max_iterations, "LM iterations per keyframe")->check(CLI::Range(1, 100))
       ->capture_default_str();

@@ -38,7 +38,7 @@ def instances():
     calib_report = sk.optimize_pose_graph(calib).calibration
     vio = {}
     if (data_root() / "vio" / "tumvi").exists():  # else test_vio.py skips (fails under CI) visibly
-        vi = sk.simulate_visual_inertial("room1", duration=6.0, data=str(data_root()))
+        vi = sk.simulate_visual_inertial("room1", duration=8.0, data=str(data_root()))
         vio = {"VisualInertialSim": vi, "VioResult": sk.run_vio(vi)}
     texture = np.random.default_rng(1).integers(0, 256, size=(96, 128), dtype=np.uint8)
     frontend = sk.ImageFrontend(sk.FrontendOptions(max_features=40))

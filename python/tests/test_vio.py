@@ -40,6 +40,18 @@ def test_dvi_drops_the_frames_whose_static_share_is_below_theta(sim):
     assert sk.run_vio(sim, dvi=True, theta="0.0").visual_frames_dropped == 0
 
 
+def test_dvi_startup_leaves_out_dynamic_features(sim):
+    dvi = sk.run_vio(sim, dvi=True)
+    assert dvi.startup_dynamic_left_out > 0 and 0.0 < dvi.startup_rotation_rms_deg < 2.0
+    assert 0.0 < dvi.startup_scale_rel_sigma <= 0.25
+    assert sk.run_vio(sim, dvi=True, dvi_startup=False).startup_dynamic_left_out == 0
+    assert sk.run_vio(sim).startup_dynamic_left_out == 0  # the baseline uses every feature
+    with pytest.raises(ValueError, match="max_rotation_rms_deg"):
+        sk.run_vio(sim, max_rotation_rms_deg=float("nan"))
+    with pytest.raises(ValueError, match="max_scale_rel_sigma"):
+        sk.run_vio(sim, max_scale_rel_sigma=-1.0)
+
+
 def test_matches_the_cli(sim, tmp_path):
     out = tmp_path / "vio.json"
     subprocess.run([cli_path(), "vio", "--sim", "room1", "--duration", "8", "--dynamic", "high", "--seed", "2",

@@ -36,10 +36,15 @@ double yaw_of(const SO3& R) {
   return std::atan2(m(1, 0), m(0, 0));
 }
 
-CameraFrame camera_frame(const SimFrame& f) {
+// The frame's observations; without the dynamic-flagged ones (counted in *left_out) if skip_dynamic.
+CameraFrame camera_frame(const SimFrame& f, bool skip_dynamic = false, int* left_out = nullptr) {
   CameraFrame cf;
   cf.stamp = f.t;
   for (const SimObservation& o : f.observations) {
+    if (skip_dynamic && o.dynamic) {
+      ++*left_out;
+      continue;
+    }
     FeatureObservation x;
     x.track_id = static_cast<std::uint64_t>(o.track_id), x.pixel = o.uv, x.classified = o.classified;
     cf.features.push_back(x);
@@ -96,7 +101,7 @@ struct Startup {
 
 // The start-up window and the initializer, retried by sliding the window (see the header).
 Startup initialize_without_truth(const VisualInertialSim& sim, std::size_t start, const VioStartupOptions& o,
-                                 VioStartupReport* report) {
+                                 bool skip_dynamic, VioStartupReport* report) {
   VisualSfmOptions sfm = o.sfm;
   sfm.focal_px = sim.camera->intrinsics()(0);
   sfm.pixel_sigma = sim.pixel_noise_sigma;
@@ -114,7 +119,8 @@ Startup initialize_without_truth(const VisualInertialSim& sim, std::size_t start
     w.push_back(k);
     if (static_cast<int>(w.size()) < o.window_frames) continue;
     std::vector<CameraFrame> frames;
-    for (std::size_t i : w) frames.push_back(camera_frame(sim.frames[i]));
+    int left_out = 0;
+    for (std::size_t i : w) frames.push_back(camera_frame(sim.frames[i], skip_dynamic, &left_out));
     ++report->attempts;
     const InitializerResult r = initialize_from_frames(frames, imu_between(sim, frames.front().stamp, frames.back().stamp),
                                                        *sim.camera, T_imu_cam, noise, sfm, alignment);
@@ -147,6 +153,9 @@ Startup initialize_without_truth(const VisualInertialSim& sim, std::size_t start
     const Eigen::Vector3d up_true = SO3(t0.q_world_imu).inverse().act(Eigen::Vector3d::UnitZ());
     report->gravity_error_deg = std::acos(std::clamp(up_est.dot(up_true), -1.0, 1.0)) * 180.0 / kPi;
     report->gyro_bias_error = (r.gyro_bias - sim.frames[w.back()].truth.b_g).norm();
+    report->rotation_rms_deg = r.rotation_rms_deg;
+    report->scale_rel_sigma = r.scale_sigma / r.scale;
+    report->dynamic_left_out = left_out;
     report->message = r.message;
     return s;
   }
@@ -194,7 +203,7 @@ VioRunResult run_vio_on_sim(const VisualInertialSim& sim, SlidingWindowOptions o
     out.truth.push_back(sample_of(sim.frames[start].t, state_of(sim.frames[start].truth, true)));
   } else {
     out.startup.method = "visual-inertial initializer";
-    const Startup s = initialize_without_truth(sim, moving, startup, &out.startup);
+    const Startup s = initialize_without_truth(sim, moving, startup, startup.dvi_startup && options.dvi.enabled, &out.startup);
     start = s.frames.back();
     initial = s.states.back();
     out.startup.window_frames = static_cast<int>(s.frames.size());

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 
 namespace slamkit {
 namespace {
@@ -17,12 +18,13 @@ Eigen::Matrix<double, 3, 2> tangent_basis(const Eigen::Vector3d& n) {
 
 // Least squares over x = [v_0 .. v_n−1 (3n), gravity part (gdim), s]; gravity = g0 + Bg·w.
 bool solve_alignment(const InitializerInput& in, const Eigen::Vector3d& bg, const Eigen::Vector3d& g0,
-                     const Eigen::MatrixXd& Bg, Eigen::VectorXd* x) {
+                     const Eigen::MatrixXd& Bg, Eigen::VectorXd* x, double* scale_sigma = nullptr) {
   const int n = static_cast<int>(in.R_c0_body.size());
   const int gdim = static_cast<int>(Bg.cols());
   const int dim = 3 * n + gdim + 1;
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
+  double zz = 0.0;  // zᵀz: the residual is zᵀz − xᵀb at the solution
   ImuBias bias;
   bias.gyro = bg;
   for (int k = 0; k + 1 < n; ++k) {
@@ -43,6 +45,7 @@ bool solve_alignment(const InitializerInput& in, const Eigen::Vector3d& bg, cons
     z.tail<3>() = Ri * p.delta_v(bias) + T * g0;
     H += A.transpose() * A;
     b += A.transpose() * z;
+    zz += z.squaredNorm();
   }
   // Scale the system for conditioning: the scale column is often much smaller.
   const Eigen::VectorXd d = H.diagonal().cwiseMax(1e-12).cwiseSqrt().cwiseInverse();
@@ -52,6 +55,15 @@ bool solve_alignment(const InitializerInput& in, const Eigen::Vector3d& bg, cons
   const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Hs, Eigen::EigenvaluesOnly).eigenvalues();
   if (!(ev.minCoeff() > 1e-10 * ev.maxCoeff())) return false;
   *x = d.asDiagonal() * ldlt.solve(d.asDiagonal() * b);
+  if (scale_sigma) {
+    // σ_s = sqrt(σ̂² (H⁻¹)_ss), σ̂² = ‖A x − z‖² / (rows − dim).
+    const int rows = 6 * (n - 1);
+    const double rss = std::max(0.0, zz - x->dot(b));
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(dim);
+    e(dim - 1) = d(dim - 1);
+    const double h_ss = d(dim - 1) * ldlt.solve(e)(dim - 1);
+    *scale_sigma = rows > dim ? std::sqrt(rss / (rows - dim) * h_ss) : std::numeric_limits<double>::infinity();
+  }
   return x->allFinite();
 }
 
@@ -107,6 +119,20 @@ InitializerResult initialize_visual_inertial(const InitializerInput& in, const I
     bg += d;
   }
   res.gyro_bias = bg;
+  // The SfM's rotations against the gyroscope's at the fitted bias.
+  {
+    ImuBias bias;
+    bias.gyro = bg;
+    double sum = 0.0;
+    for (int k = 0; k + 1 < n; ++k)
+      sum += in.imu[k].delta_R(bias).between(in.R_c0_body[k].between(in.R_c0_body[k + 1])).log().squaredNorm();
+    res.rotation_rms_deg = std::sqrt(sum / (n - 1)) * 180.0 / kPi;
+    if (o.max_rotation_rms_deg > 0.0 && !(res.rotation_rms_deg <= o.max_rotation_rms_deg)) {
+      res.message = "initializer: the SfM rotations disagree with the gyroscope (RMS " +
+                    std::to_string(res.rotation_rms_deg) + " deg > " + std::to_string(o.max_rotation_rms_deg) + " deg)";
+      return res;
+    }
+  }
   // 2. Velocities, gravity, scale.
   Eigen::VectorXd x;
   if (!solve_alignment(in, bg, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), &x)) {
@@ -124,7 +150,7 @@ InitializerResult initialize_visual_inertial(const InitializerInput& in, const I
   for (int it = 0; it < o.refinement_iterations; ++it) {
     const Eigen::Vector3d g0 = o.gravity_magnitude * g.normalized();
     const Eigen::Matrix<double, 3, 2> B = tangent_basis(g.normalized());
-    if (!solve_alignment(in, bg, g0, B, &x)) {
+    if (!solve_alignment(in, bg, g0, B, &x, &res.scale_sigma)) {
       res.message = "initializer: the gravity refinement is singular";
       return res;
     }
@@ -133,6 +159,12 @@ InitializerResult initialize_visual_inertial(const InitializerInput& in, const I
   }
   if (!(s > 0.0) || !x.allFinite()) {
     res.message = "initializer: refinement gave scale " + std::to_string(s);
+    return res;
+  }
+  if (o.max_scale_rel_sigma > 0.0 && !(res.scale_sigma <= o.max_scale_rel_sigma * s)) {
+    res.message = "initializer: the scale is not determined by the window (scale " + std::to_string(s) + " ± " +
+                  std::to_string(res.scale_sigma) + ", more than " + std::to_string(o.max_scale_rel_sigma) +
+                  " relative)";
     return res;
   }
   res.scale = s;
@@ -151,7 +183,9 @@ InitializerResult initialize_visual_inertial(const InitializerInput& in, const I
     res.states.push_back(st);
   }
   res.success = true;
-  res.message = "initialized: scale " + std::to_string(s) + ", gyro bias |b_g| " + std::to_string(bg.norm()) + " rad/s";
+  res.message = "initialized: scale " + std::to_string(s) + ", gyro bias |b_g| " + std::to_string(bg.norm()) +
+                " rad/s, rotation RMS against the gyroscope " + std::to_string(res.rotation_rms_deg) + " deg, scale σ " +
+                std::to_string(res.scale_sigma);
   return res;
 }
 

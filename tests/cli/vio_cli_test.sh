@@ -44,6 +44,8 @@ j = json.load(open(sys.argv[1]))
 assert j["vio"]["source"] == "room1" and j["vio"]["seed"] == 3, j["vio"]
 i = j["initialization"]
 assert i["method"] == "visual-inertial initializer" and i["attempts"] >= 1, i
+assert 0 <= i["rotation_rms_deg"] < 2 and i["dynamic_left_out"] == 0, i  # the baseline uses every feature
+assert 0 < i["scale_rel_sigma"] <= 0.25, i
 assert 0 < j["initialized_at_s"] < 10 and math.isfinite(j["ate_rmse"]) and j["ate_rmse"] < 0.3, (j["initialized_at_s"], j["ate_rmse"])
 PY
 # An empty or NaN scored distance range is refused before any frame is rendered (exit 1).
@@ -59,7 +61,7 @@ done
 [[ $? -eq 2 ]] && grep -q -- "--rotation-prior-sigma" "$work/e8.txt" || fail "--rotation-prior-sigma -1: $(cat "$work/e8.txt")"
 # A KLT window or scoring patch out of range, or an RLOF switch other than on/off, is a usage error
 # (exit 2) naming the option.
-for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe"; do
+for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe" "--dvi-startup maybe" "--max-rotation-rms -1" "--max-scale-sigma -1"; do
   # shellcheck disable=SC2086
   "$slamkit" vio --sim room1 --duration 1 --images --data "$data" $bad >"$work/e9.txt" 2>&1
   [[ $? -eq 2 ]] && grep -q -- "${bad%% *}" "$work/e9.txt" || fail "$bad: $(cat "$work/e9.txt")"

@@ -19,7 +19,7 @@ using testing::tumvi_T_cam_imu;
 
 // A handheld walk: a 2 m circle at 1.4 m with vertical and radial sway (≈ 0.5 m/s² of
 // acceleration changes, as a person carrying the sensor gives) and swaying rotation.
-VisualInertialSim handheld_run(double duration, std::uint64_t seed) {
+VisualInertialSim handheld_run(double duration, std::uint64_t seed, DynamicLevel dynamic = DynamicLevel::kNone) {
   Trajectory path;
   for (double t = 0.0; t <= duration + 1.0; t += 0.01) {
     const double a = 0.4 * t, r = 2.0 + 0.12 * std::sin(1.9 * t);
@@ -31,6 +31,7 @@ VisualInertialSim handheld_run(double duration, std::uint64_t seed) {
   o.seed = seed;
   o.duration = duration;
   o.mask_radius_px = 300.0;
+  o.dynamic = dynamic;
   VisualInertialSim sim = simulate_visual_inertial(BSplineTrajectory::fit(path), tumvi_camera(), tumvi_T_cam_imu(), o);
   sim.source = "handheld test run";
   return sim;
@@ -57,6 +58,23 @@ TEST(VioStartup, InitializesWithoutGroundTruthAndTracks) {
     worst = std::max(worst, (r.estimate[k].T_world_body.translation() - r.truth[k].T_world_body.translation()).norm());
   }
   EXPECT_LT(worst, 0.25);
+}
+
+// With DVI on, the start-up SfM leaves out the observations flagged dynamic (here the simulator's
+// labels); the baseline uses them all. Both start, and the report counts what was left out.
+TEST(VioStartup, DviStartupLeavesOutDynamicFeatures) {
+  const VisualInertialSim sim = handheld_run(8.0, 3, DynamicLevel::kHigh);
+  SlidingWindowOptions dvi;
+  dvi.dvi.enabled = true;
+  const VioRunResult on = run_vio_on_sim(sim, dvi);
+  const VioRunResult off = run_vio_on_sim(sim, SlidingWindowOptions{});
+  EXPECT_GT(on.startup.dynamic_left_out, 0) << on.startup.message;
+  EXPECT_EQ(off.startup.dynamic_left_out, 0);
+  EXPECT_LT(on.startup.rotation_rms_deg, 2.0);
+  EXPECT_LT(on.startup.scale_error, 0.15) << on.startup.message;
+  VioStartupOptions keep;
+  keep.dvi_startup = false;
+  EXPECT_EQ(run_vio_on_sim(sim, dvi, {}, keep).startup.dynamic_left_out, 0);
 }
 
 TEST(VioStartup, GroundTruthStartIsStillAvailable) {

@@ -84,5 +84,62 @@ TEST(VisualInertialInitializer, ReportsFailureWithoutExcitation) {
   EXPECT_FALSE(initialize_visual_inertial(tiny).success);
 }
 
+// SfM rotations that are not the camera's (what a visual SfM returns when a crowd moving together
+// dominates its window) are refused by the gyroscope check, whatever the alignment would give;
+// the true rotations pass with a small reported RMS, and a disabled check lets the wrong ones through.
+TEST(VisualInertialInitializer, RefusesSfmRotationsThatDisagreeWithTheGyroscope) {
+  const AnalyticMotion motion;
+  const ImuBias bias{Eigen::Vector3d(0.004, -0.003, 0.002), Eigen::Vector3d::Zero()};
+  const Window w = make_window(motion, 1.0, 15, 5.0, 0.2, bias);
+  const InitializerResult good = initialize_visual_inertial(w.input);
+  ASSERT_TRUE(good.success) << good.message;
+  EXPECT_LT(good.rotation_rms_deg, 0.05);
+  EXPECT_NE(good.message.find("rotation RMS"), std::string::npos) << good.message;
+
+  // The crowd: a slow yaw about its own axis instead of the camera's rotations (positions kept).
+  InitializerInput crowd = w.input;
+  for (std::size_t k = 0; k < crowd.R_c0_body.size(); ++k)
+    crowd.R_c0_body[k] = SO3::exp(Eigen::Vector3d(0.0, 0.02 * k, 0.0)) * w.input.R_c0_body[0];
+  const InitializerResult bad = initialize_visual_inertial(crowd);
+  EXPECT_FALSE(bad.success);
+  EXPECT_NE(bad.message.find("disagree with the gyroscope"), std::string::npos) << bad.message;
+  EXPECT_GT(bad.rotation_rms_deg, 2.0);
+  EXPECT_TRUE(std::isfinite(bad.scale));
+
+  // A rotation error of 1° on one frame is within the default 2° RMS; a tighter bound refuses it.
+  InitializerInput nudged = w.input;
+  nudged.R_c0_body[5] = nudged.R_c0_body[5] * SO3::exp(Eigen::Vector3d(1.0 * kPi / 180, 0.0, 0.0));
+  EXPECT_TRUE(initialize_visual_inertial(nudged).success);
+  InitializerOptions tight;
+  tight.max_rotation_rms_deg = 0.2;
+  EXPECT_FALSE(initialize_visual_inertial(nudged, tight).success);
+  InitializerOptions off;
+  off.max_rotation_rms_deg = 0.0;
+  EXPECT_NEAR(initialize_visual_inertial(crowd, off).rotation_rms_deg, bad.rotation_rms_deg, 1e-9);
+}
+
+// SfM positions too noisy to carry the scale (errors up to a sixth of the window's extent, as a
+// wrong reference pair gives) are refused with the scale's relative σ above the bound; the
+// clean window's σ is a fraction of a percent of the scale.
+TEST(VisualInertialInitializer, RefusesAScaleTheWindowDoesNotDetermine) {
+  const AnalyticMotion motion;
+  const Window w = make_window(motion, 1.0, 15, 5.0, 0.2, ImuBias{});
+  const InitializerResult good = initialize_visual_inertial(w.input);
+  ASSERT_TRUE(good.success) << good.message;
+  EXPECT_LT(good.scale_sigma, 0.01 * good.scale);
+  double extent = 0.0;
+  for (const auto& p : w.input.p_c0_cam) extent = std::max(extent, (p - w.input.p_c0_cam[0]).norm());
+  InitializerInput noisy = w.input;
+  std::srand(7);
+  for (auto& p : noisy.p_c0_cam) p += extent / 6.0 * Eigen::Vector3d::Random();
+  const InitializerResult bad = initialize_visual_inertial(noisy);
+  EXPECT_FALSE(bad.success);
+  EXPECT_NE(bad.message.find("scale is not determined"), std::string::npos) << bad.message;
+  InitializerOptions off;
+  off.max_scale_rel_sigma = 0.0;
+  const InitializerResult unchecked = initialize_visual_inertial(noisy, off);
+  if (unchecked.success) EXPECT_GT(unchecked.scale_sigma, 0.25 * unchecked.scale);
+}
+
 }  // namespace
 }  // namespace slamkit

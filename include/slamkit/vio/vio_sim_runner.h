@@ -45,6 +45,9 @@ struct VioStartupOptions {
   /// The estimator's prior on the initialized state (1σ; position stays the gauge's 1 mm).
   double prior_rotation_sigma = 0.02, prior_velocity_sigma = 0.1;
   bool use_ground_truth = false;    ///< start from the true state at the first moving frame
+  /// With DVI on (SlidingWindowOptions::dvi.enabled), the start-up SfM leaves out the features the
+  /// front end flagged dynamic (the baseline, like VINS-Mono, uses every feature).
+  bool dvi_startup = true;
 };
 
 /// What the start-up did, with its errors against the truth (reported, never used).
@@ -58,6 +61,9 @@ struct VioStartupReport {
   double gravity_error_deg = 0.0;   ///< roll/pitch: angle between estimated and true up at the first window frame
   double velocity_error = 0.0;      ///< max ‖v − v_true‖ over the window (gauge-aligned) [m/s]
   double gyro_bias_error = 0.0;     ///< ‖b_g − b_g,true‖ at the newest window frame [rad/s]
+  double rotation_rms_deg = 0.0;    ///< the accepted window's SfM rotations against the gyroscope
+  double scale_rel_sigma = 0.0;     ///< the accepted window's scale σ / scale (alignment residual)
+  int dynamic_left_out = 0;         ///< flagged observations the accepted window's SfM left out (DVI)
 };
 
 struct VioRunResult {

@@ -10,8 +10,13 @@
 //   3. Gravity refinement on its sphere: g = G ĝ + B w with B a basis of
 //      ĝ's tangent plane, w ∈ ℝ², the same least squares in (v, w, s), 4 times, renormalized.
 // Failure (never NaN): too few frames, too little excitation (the std of the preintegrated
-// accelerations Δv/Δt below min_accel_excitation), a non-positive scale, |g| away from G, or
-// a singular system; `message` says which.
+// accelerations Δv/Δt below min_accel_excitation), SfM rotations that disagree with the
+// gyroscope (after step 1, the RMS over consecutive pairs of |Log(ΔR(b_g)ᵀ R_bkᵀ R_bk+1)| above
+// max_rotation_rms_deg: the SfM reconstructed something other than the camera's motion, e.g. a
+// crowd moving together), a non-positive scale, a scale the window does not determine (its
+// standard deviation from the alignment's residual above max_scale_rel_sigma of it), |g| away
+// from G, or a singular system;
+// `message` says which.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,6 +34,13 @@ struct InitializerOptions {
   double gravity_magnitude = 9.81;     ///< G [m/s²]
   double max_gravity_error = 0.1;      ///< relative | |g| − G | / G accepted from step 2
   double min_accel_excitation = 0.25;  ///< [m/s²] std of Δv/Δt over the window (VINS-Mono's check)
+  /// [deg] RMS disagreement of the SfM's relative rotations with the gyroscope's, after the bias
+  /// fit (rendered rooms: 0.02–0.6° for accepted windows; ≤ 0 or NaN disables the check).
+  double max_rotation_rms_deg = 2.0;
+  /// The scale's standard deviation (σ̂² (H⁻¹)_ss of the last alignment, σ̂² from its residual)
+  /// relative to the scale; a larger one means the window does not determine the scale
+  /// (≤ 0 or NaN disables the check).
+  double max_scale_rel_sigma = 0.25;
   int min_frames = 4;
   int refinement_iterations = 4;
 };
@@ -44,6 +56,8 @@ struct InitializerResult {
   bool success = false;
   std::string message;
   double scale = 0.0;
+  double rotation_rms_deg = 0.0;  ///< SfM against gyroscope after the bias fit (step 1)
+  double scale_sigma = 0.0;       ///< the scale's standard deviation from the alignment's residual
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d gravity_c0 = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> velocities_c0;
