@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
   const auto fisheye = make_camera_model(
       "equidistant", {190.978, 190.973, 254.932, 256.897, 0.00348239, 0.000715035, -0.00205324, 0.000202937}, 512, 512);
   nlohmann::json j;
-  j["description"] = "DVI front end per 512x512 frame: tracking (goodFeaturesToTrack + cornerSubPix + KLT forward/backward) "
+  j["description"] = "DVI front end per 512x512 frame: tracking (goodFeaturesToTrack + cornerSubPix + KLT forward/backward + RLOF refinement, the default since session 34) "
                      "+ classification (undistortion + F RANSAC + epipolar distance); 150 features; one calling thread (OpenCV may use its pool; total_cpu_ms counts all threads)";
   double load[1] = {0};
   if (getloadavg(load, 1) == 1) j["load_average_1min"] = load[0];

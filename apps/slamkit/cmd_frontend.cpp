@@ -209,7 +209,7 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option_function<std::string>(
          "--rlof-refine", [o](const std::string& v) { o->tracker.rlof_refine = parse_rlof_refine(v); },
          "refine by robust local optical flow (RLOF: cross-based support region, M-estimator): off, track (= on: the "
-         "tracks) or test (only the positions the epipolar test reads) [off]")
+         "tracks) or test (only the positions the epipolar test reads) [track]")
       ->check(CLI::IsMember({"off", "on", "track", "test"}));
   sub->add_option("--fb-threshold", o->tracker.forward_backward_px, "forward-backward check (px; 0: off)")
       ->check(CLI::Range(0.0, 100.0))->capture_default_str();

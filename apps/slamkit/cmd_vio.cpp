@@ -328,7 +328,7 @@ void add_vio_command(CLI::App& app) {
   sub->add_option_function<std::string>(
          "--rlof-refine", [o](const std::string& v) { o->image.vio.frontend.tracker.rlof_refine = parse_rlof_refine(v); },
          "with --images: refine by robust local optical flow (RLOF: cross-based support region, M-estimator): off, "
-         "track (= on: the tracks) or test (only the positions the epipolar test reads) [off]")
+         "track (= on: the tracks) or test (only the positions the epipolar test reads) [track]")
       ->check(CLI::IsMember({"off", "on", "track", "test"}));
   sub->add_option("--feature-log", o->image.feature_log, "with --images: write every scored feature to this CSV");
   sub->add_option("--render-threads", o->image.threads, "with --images: renderer threads (0: all)");

@@ -127,7 +127,7 @@ def test_klt_window_option():
 
 
 def test_rlof_refine_option():
-    assert sk.FrontendOptions().rlof_refine == "off"
+    assert sk.FrontendOptions().rlof_refine == "track"  # the default since session 34
     assert sk.FrontendOptions(rlof_refine="test").rlof_refine == "test"
     with pytest.raises(ValueError, match="rlof_refine"):
         sk.FrontendOptions(rlof_refine="yes")

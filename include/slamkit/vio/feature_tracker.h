@@ -89,8 +89,9 @@ struct FeatureTrackerOptions {
   /// KLT seeded by the gyroscope's rotation (needs a camera model and a rotation per frame).
   GyroKlt gyro_klt = GyroKlt::kOff;
   /// Refine by robust local optical flow (RLOF, cross-based support region, M-estimator), started
-  /// at KLT's flow: off, the tracks, or only the test positions (docs/frontend.md, session 33).
-  RlofRefine rlof_refine = RlofRefine::kOff;
+  /// at KLT's flow: off, the tracks, or only the test positions (docs/frontend.md, sessions 33–34:
+  /// kTrack halves the static false alarms on the rendered rooms; the default since session 34).
+  RlofRefine rlof_refine = RlofRefine::kTrack;
   /// A refinement that moves the position this far or farther from where KLT's flow puts it is not
   /// taken (kTrack: KLT's position is kept; kTest: the test chain restarts at KLT's position).
   double rlof_max_shift_px = 3.0;
