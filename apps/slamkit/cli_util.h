@@ -1,7 +1,9 @@
 // Small helpers shared by the subcommands: JSON output files and timing.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
 #include <initializer_list>
 #include <iostream>
 #include <utility>
@@ -28,6 +30,22 @@ inline void check_outputs(std::initializer_list<std::pair<const std::string*, co
   for (const auto& [path, option] : outputs)
     if (!path->empty()) check_writable(*path, option);
 }
+
+/// Option validators like CLI::NonNegativeNumber / CLI::PositiveNumber that also refuse NaN
+/// (CLI11's accept it: its range test `x < 0` is false for NaN, so "nan" would silently pass).
+inline CLI::Validator number_at_least(double low, bool strict, const char* name) {
+  return CLI::Validator(
+      [low, strict](std::string& text) -> std::string {
+        double x = 0.0;
+        if (!CLI::detail::lexical_cast(text, x) || !std::isfinite(x) || x < low || (strict && x == low))
+          return "Value " + text + (strict ? " is not a finite number > " : " is not a finite number >= ") +
+                 CLI::detail::to_string(low);
+        return {};
+      },
+      name);
+}
+inline const CLI::Validator NonNegativeNumber = number_at_least(0.0, false, "NONNEGATIVE");
+inline const CLI::Validator PositiveNumber = number_at_least(0.0, true, "POSITIVE");
 
 class Stopwatch {
  public:

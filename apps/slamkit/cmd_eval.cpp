@@ -126,16 +126,16 @@ void add_metric_command(CLI::App& eval, MetricKind kind) {
       ->check(CLI::IsMember({"trans_part", "angle_deg", "angle_rad", "rot_part", "full", "point_distance"}))
       ->capture_default_str();
   sub->add_option("--t-max-diff", o->t_max_diff, "max. timestamp difference for association [s]")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--t-offset", o->t_offset, "time offset added to EST stamps [s]")->capture_default_str();
   if (!ate) {
-    sub->add_option("--delta", o->delta, "step between the poses of a pair")->check(CLI::PositiveNumber)
+    sub->add_option("--delta", o->delta, "step between the poses of a pair")->check(cli::PositiveNumber)
         ->capture_default_str();
     sub->add_option("--delta-unit", o->delta_unit, "f frames, m metres (path), d degrees, r radians, s seconds")
         ->check(CLI::IsMember({"f", "m", "d", "r", "s"}))->capture_default_str();
     sub->add_flag("--all-pairs", o->all_pairs, "use all pairs instead of consecutive ones");
     sub->add_option("--delta-tol", o->delta_tol, "relative tolerance of all-pairs matching")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
+        ->check(cli::NonNegativeNumber)->capture_default_str();
     sub->add_flag("--pairs-from-reference", o->pairs_from_reference, "select the pairs on REF instead of EST");
   }
   sub->add_option("--json", o->json, "write the run as JSON ('-': stdout); input of `slamkit report`");

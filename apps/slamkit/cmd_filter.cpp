@@ -279,9 +279,9 @@ void add_filter_command(CLI::App& app) {
   sub->add_option("--seed", o->seed, "first seed (runs use seed .. seed+runs-1)")->capture_default_str();
   sub->add_option("--active", o->active, "SEIF active-landmark bound")->capture_default_str();
   sub->add_option("--particles", o->particles, "FastSLAM particles")->capture_default_str();
-  sub->add_option("--laps", o->laps, "laps over the waypoints")->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_option("--laps", o->laps, "laps over the waypoints")->check(cli::PositiveNumber)->capture_default_str();
   sub->add_option("--steps", o->steps, "stop after this many control steps (0: the whole route)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::NonNegativeNumber);
   sub->add_option("--threads", o->threads, "worker threads for the runs (0: all cores)");
   sub->add_option("--json", o->json, "write the summary as JSON ('-': stdout); input of `slamkit report`");
   sub->add_option("--plot", o->plot, "write an SVG dashboard (map with 3σ ellipses, error ±3σ, ANEES, RMSE)");

@@ -215,10 +215,10 @@ void add_frontend_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 100.0))->capture_default_str();
   sub->add_option("--max-residual-ratio", o->tracker.max_residual_ratio,
                   "drop tracks whose KLT residual exceeds this x the median (0: off)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--ambiguity", o->tracker.ambiguity_px,
                   "under large motion drop tracks whose two KLT candidates lie this far apart with similar residuals (px; 0: off)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--ambiguity-ratio", o->tracker.ambiguity_ratio,
                   "with --ambiguity: residual ratio min/max above which two candidates count as equally good")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
@@ -228,9 +228,9 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--patch-half", o->tracker.patch_half_px, "NCC patch half size (px)")->check(CLI::Range(1, 50))
       ->capture_default_str();
   sub->add_option("--threshold", o->filter.threshold_px, "epipolar distance above which a feature is dynamic (px)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(cli::PositiveNumber)->capture_default_str();
   sub->add_option("--ransac-threshold", o->filter.ransac_threshold_px, "RANSAC inlier distance (px)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(cli::PositiveNumber)->capture_default_str();
   sub->add_option("--static-camera-flow", o->filter.static_camera_flow_px,
                   "median flow below which the camera counts as static (px; negative: never)")
       ->capture_default_str();
@@ -252,7 +252,7 @@ void add_frontend_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 2.0))->capture_default_str();
   sub->add_option("--search-min-ncc", o->search.min_ncc, "with --epipolar-search: and its patch NCC >= this")
       ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
-  sub->add_option("--max-frames", o->max_frames, "stop after this many frames (0: all)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--max-frames", o->max_frames, "stop after this many frames (0: all)")->check(cli::NonNegativeNumber);
   sub->add_flag("--no-images", o->no_images, "do not write the PNG frames");
   sub->add_flag("--quiet", o->quiet, "no progress lines");
   sub->callback([o]() { run_frontend(*o); });

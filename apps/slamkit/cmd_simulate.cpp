@@ -225,7 +225,7 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--json", args->json, "summary as JSON");
   cmd->add_option("--truth", args->truth, "true IMU poses at the camera times (TUM)");
   cmd->add_option("--plot", args->plot, "top view of the room (SVG)");
-  cmd->add_option("--duration", args->duration, "seconds from the start (0: the whole path)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--duration", args->duration, "seconds from the start (0: the whole path)")->check(cli::NonNegativeNumber);
   cmd->add_option("--knot-spacing", args->knot_spacing, "B-spline knot spacing [s]")
       ->check(CLI::Range(0.01, 10.0))
       ->capture_default_str();

@@ -211,7 +211,7 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::IsMember({"none", "low", "high"}))
       ->capture_default_str();
   sub->add_option("--duration", o->duration, "seconds of a named sequence from its start (0: all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::NonNegativeNumber);
   sub->add_option("--data", o->data, "datasets folder (default: $SLAMKIT_DATA or ../shared/datasets)");
   sub->add_flag("--ground-truth-start", o->ground_truth_start,
                 "start from the true state at the first moving frame instead of the initializer (comparison)");
@@ -219,10 +219,10 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
   sub->add_option("--max-rotation-rms", o->max_rotation_rms_deg,
                   "start-up: refuse a window whose SfM rotations disagree with the gyroscope by more (RMS, deg; 0: off)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--max-scale-sigma", o->max_scale_rel_sigma,
                   "start-up: refuse a window whose scale has a larger relative standard deviation (0: off)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--window", o->window, "keyframes in the window")->check(CLI::Range(2, 100))->capture_default_str();
   sub->add_option("--max-iterations", o->max_iterations, "LM iterations per keyframe")->check(CLI::Range(1, 100))
       ->capture_default_str();
@@ -243,7 +243,7 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::IsMember({"all", "classified"}))->capture_default_str();
   sub->add_option("--outlier-px", o->outlier_px,
                   "after each window solve remove features whose mean reprojection error exceeds this [px] (0: off)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--solver", o->solver, "window solver: dense (vio/dense_window_solver.h) or generic (the Optimizer)")
       ->check(CLI::IsMember({"dense", "generic"}))->capture_default_str();
   sub->add_flag("--images", o->images, "render the frames and run the DVI front end on their pixels (docs/frontend.md)");
@@ -268,19 +268,19 @@ void add_vio_command(CLI::App& app) {
                   "with --images: reject tested tracks whose patch NCC over the baseline is below this (-1: off)")
       ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
   sub->add_option("--ambiguity", o->image.vio.frontend.tracker.ambiguity_px,
-                  "with --images: KLT ambiguity check distance (px; 0: off)")->check(CLI::NonNegativeNumber)->capture_default_str();
+                  "with --images: KLT ambiguity check distance (px; 0: off)")->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--ambiguity-ratio", o->image.vio.frontend.tracker.ambiguity_ratio,
                   "with --images: KLT ambiguity residual ratio")->check(CLI::Range(0.0, 1.0))->capture_default_str();
   sub->add_option("--epipolar-threshold", o->image.vio.frontend.filter.threshold_px, "with --images: dynamic above (px)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(cli::PositiveNumber)->capture_default_str();
   sub->add_option("--pixel-sigma", o->image.vio.pixel_sigma, "with --images: sigma of the tracks in the window (px)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(cli::PositiveNumber)->capture_default_str();
   sub->add_option("--trusted-model", o->image.vio.frontend.trusted_model,
                   "with --images: fit the camera motion on the tracks static in their last test")->capture_default_str();
   sub->add_option("--trusted-min-tests", o->image.vio.frontend.trusted_min_tests,
                   "with --images: tests a track needs to be trusted")->check(CLI::Range(1, 16))->capture_default_str();
   sub->add_option("--min-trusted-matches", o->image.vio.frontend.filter.min_trusted_matches,
-                  "with --images: fewer trusted matches: fit on all")->check(CLI::NonNegativeNumber)->capture_default_str();
+                  "with --images: fewer trusted matches: fit on all")->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--refine-essential", o->image.vio.frontend.filter.refine_essential,
                   "with --images: refine E by robust least squares on the bearings")->capture_default_str();
   sub->add_option_function<std::string>(
@@ -299,7 +299,7 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::IsMember({"on", "off", "seed", "candidate"}));
   sub->add_option("--rotation-prior-sigma", o->image.vio.frontend.filter.rotation_prior_sigma_rad,
                   "with --imu-rotation on and --refine-essential: sigma of the prior letting the refinement move R "
-                  "(rad; 0: R held)")->check(CLI::NonNegativeNumber)->capture_default_str();
+                  "(rad; 0: R held)")->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--pure-rotation-share", o->image.vio.frontend.filter.pure_rotation_share,
                   "with --imu-rotation on: translation undefined when this share of the matches fits the rotation alone")
       ->check(CLI::Range(0.01, 1.0))->capture_default_str();
@@ -316,10 +316,10 @@ void add_vio_command(CLI::App& app) {
                   "with --images --epipolar-search: and its patch NCC >= this")->check(CLI::Range(-1.0, 1.0))->capture_default_str();
   sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
                   "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--score-max-distance", o->image.vio.score_max_distance_m,
                   "with --images: score only objects at most this far from the camera (m; issue 13: 6)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--score-patch-half", o->image.vio.score_patch_half_size_px,
                   "with --images: half side of the scoring label patch (px; -1: the KLT window's half, 0: centre pixel)")
       ->check(CLI::Range(-1, 50))->capture_default_str();

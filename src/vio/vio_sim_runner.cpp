@@ -36,12 +36,12 @@ double yaw_of(const SO3& R) {
   return std::atan2(m(1, 0), m(0, 0));
 }
 
-// The frame's observations; without the dynamic-flagged ones (counted in *left_out) if skip_dynamic.
-CameraFrame camera_frame(const SimFrame& f, bool skip_dynamic = false, int* left_out = nullptr) {
+// The frame's observations; with a counter `left_out`, without the dynamic-flagged ones (counted there).
+CameraFrame camera_frame(const SimFrame& f, int* left_out = nullptr) {
   CameraFrame cf;
   cf.stamp = f.t;
   for (const SimObservation& o : f.observations) {
-    if (skip_dynamic && o.dynamic) {
+    if (left_out && o.dynamic) {
       ++*left_out;
       continue;
     }
@@ -120,7 +120,7 @@ Startup initialize_without_truth(const VisualInertialSim& sim, std::size_t start
     if (static_cast<int>(w.size()) < o.window_frames) continue;
     std::vector<CameraFrame> frames;
     int left_out = 0;
-    for (std::size_t i : w) frames.push_back(camera_frame(sim.frames[i], skip_dynamic, &left_out));
+    for (std::size_t i : w) frames.push_back(camera_frame(sim.frames[i], skip_dynamic ? &left_out : nullptr));
     ++report->attempts;
     const InitializerResult r = initialize_from_frames(frames, imu_between(sim, frames.front().stamp, frames.back().stamp),
                                                        *sim.camera, T_imu_cam, noise, sfm, alignment);

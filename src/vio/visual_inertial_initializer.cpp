@@ -97,16 +97,18 @@ InitializerResult initialize_visual_inertial(const InitializerInput& in, const I
       return res;
     }
   }
-  // 1. Gyroscope bias.
+  // 1. Gyroscope bias. rotation_error(k, b_g) = Log(ΔR_k(b_g)ᵀ R_bkᵀ R_bk+1): gyroscope against SfM.
+  auto rotation_error = [&](int k, const Eigen::Vector3d& bg) {
+    ImuBias bias;
+    bias.gyro = bg;
+    return Eigen::Vector3d(in.imu[k].delta_R(bias).between(in.R_c0_body[k].between(in.R_c0_body[k + 1])).log());
+  };
   Eigen::Vector3d bg = Eigen::Vector3d::Zero();
   for (int it = 0; it < 2; ++it) {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     for (int k = 0; k + 1 < n; ++k) {
-      ImuBias bias;
-      bias.gyro = bg;
-      const SO3 dR = in.imu[k].delta_R(bias);
-      const Eigen::Vector3d e = dR.between(in.R_c0_body[k].between(in.R_c0_body[k + 1])).log();
+      const Eigen::Vector3d e = rotation_error(k, bg);
       const Eigen::Matrix3d J = in.imu[k].bias_jacobian().block<3, 3>(0, 0);
       H += J.transpose() * J;
       b += J.transpose() * e;
@@ -121,11 +123,8 @@ InitializerResult initialize_visual_inertial(const InitializerInput& in, const I
   res.gyro_bias = bg;
   // The SfM's rotations against the gyroscope's at the fitted bias.
   {
-    ImuBias bias;
-    bias.gyro = bg;
     double sum = 0.0;
-    for (int k = 0; k + 1 < n; ++k)
-      sum += in.imu[k].delta_R(bias).between(in.R_c0_body[k].between(in.R_c0_body[k + 1])).log().squaredNorm();
+    for (int k = 0; k + 1 < n; ++k) sum += rotation_error(k, bg).squaredNorm();
     res.rotation_rms_deg = std::sqrt(sum / (n - 1)) * 180.0 / kPi;
     if (o.max_rotation_rms_deg > 0.0 && !(res.rotation_rms_deg <= o.max_rotation_rms_deg)) {
       res.message = "initializer: the SfM rotations disagree with the gyroscope (RMS " +
