@@ -52,6 +52,7 @@ struct FrontendFrame {
   py::array_t<int> baseline;
   double static_ratio = 1.0, tracking_ms = 0.0, classification_ms = 0.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0, tracked = 0, detected = 0;
+  int n_realigned_affine = 0, n_unflagged_affine = 0;
   std::string status, motion_model;
   bool gyro_seeded = false;
 };
@@ -78,6 +79,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.status = to_string(r.status);
   f.motion_model = to_string(r.motion_model);
   f.gyro_seeded = r.tracking.gyro_seeded;
+  f.n_realigned_affine = r.n_realigned_affine, f.n_unflagged_affine = r.n_unflagged_affine;
   return f;
 }
 
@@ -102,6 +104,13 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T EpipolarSear
       [member](ImageFrontendOptions& o, T v) { o.epipolar_search.*member = v; }, doc);
 }
 
+template <class T>
+void field(py::class_<ImageFrontendOptions>& c, const char* name, T AffineRealignOptions::*member, const char* doc) {
+  c.def_property(
+      name, [member](const ImageFrontendOptions& o) { return o.affine_realign.*member; },
+      [member](ImageFrontendOptions& o, T v) { o.affine_realign.*member = v; }, doc);
+}
+
 // A tracker option that is an enum, exposed by its name (ValueError on an unknown one).
 template <class E>
 void named_field(py::class_<ImageFrontendOptions>& c, const char* name, E FeatureTrackerOptions::*member,
@@ -124,7 +133,8 @@ const std::vector<const char*> kOptionFields = {
     "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "known_rotation",
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
-    "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc"};
+    "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc", "affine_realign",
+    "affine_min_correlation"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -175,6 +185,11 @@ void init_frontend(py::module_& m) {
   field(opt, "epipolar_search_ncc_drop", &EpipolarSearchOptions::max_ncc_drop,
         "re-found iff its patch NCC >= the track's minus this");
   field(opt, "epipolar_search_min_ncc", &EpipolarSearchOptions::min_ncc, "and its patch NCC >= this");
+  field(opt, "affine_realign", &AffineRealignOptions::enabled,
+        "align dynamic-flagged features' patches over their test's baseline by an affine warp (ECC) before the flag "
+        "counts; the track moves there");
+  field(opt, "affine_min_correlation", &AffineRealignOptions::min_correlation,
+        "affine_realign: the alignment's normalized correlation must reach this");
   named_field(opt, "gyro_klt", &FeatureTrackerOptions::gyro_klt, gyro_klt_name, parse_gyro_klt,
               "KLT seeded by the rotation given to process(): 'off', 'seed' ('on') or 'candidate'");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")
@@ -203,6 +218,9 @@ void init_frontend(py::module_& m) {
       .def_readonly("motion_model", &FrontendFrame::motion_model,
                     "estimated, known_rotation, pure_rotation or rotation_rejected (the longest test's model)")
       .def_readonly("gyro_seeded", &FrontendFrame::gyro_seeded, "KLT was seeded by the given rotation (gyro_klt)")
+      .def_readonly("n_realigned_affine", &FrontendFrame::n_realigned_affine,
+                    "dynamic-flagged features moved by the affine re-alignment (affine_realign)")
+      .def_readonly("n_unflagged_affine", &FrontendFrame::n_unflagged_affine, "of those, the ones that turned static")
       .def_readonly("tracking_ms", &FrontendFrame::tracking_ms)
       .def_readonly("classification_ms", &FrontendFrame::classification_ms)
       .def("__repr__", [](const FrontendFrame& f) {

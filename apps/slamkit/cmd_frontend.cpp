@@ -18,6 +18,7 @@
 #include "vio_images.h"
 #include "slamkit/io/kalibr_calibration.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
+#include "slamkit/vio/feature_affine_realign.h"
 #include "slamkit/vio/feature_epipolar_search.h"
 #include "slamkit/vio/feature_tracker.h"
 #include "slamkit/vio/frontend_io.h"
@@ -32,6 +33,7 @@ struct FrontendCliOptions {
   FeatureTrackerOptions tracker;
   DynamicFilterOptions filter;
   EpipolarSearchOptions search;
+  AffineRealignOptions realign;
   int max_frames = 0;  // 0: all
   bool no_images = false, quiet = false;
 };
@@ -44,6 +46,11 @@ std::string progress_bar(int done, int total) {
 void run_frontend(const FrontendCliOptions& o) {
   check_outputs({{&o.json, "--json"}});
   check_epipolar_search_input(o.search, "--search-range");
+  try {
+    check_affine_realign_options(o.realign);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--affine-min-correlation", 0, "affine_realign", e.what());
+  }
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
   if (!std::filesystem::is_directory(o.out)) throw InputError(o.out, 0, "--out", "cannot create the output directory");
@@ -64,7 +71,7 @@ void run_frontend(const FrontendCliOptions& o) {
   const int report_every = std::max(1, total / 20);
   nlohmann::json frames = nlohmann::json::array();
   std::map<std::string, int> status_count;
-  long all_static = 0, all_dynamic = 0, all_unknown = 0, all_refound = 0;
+  long all_static = 0, all_dynamic = 0, all_unknown = 0, all_refound = 0, all_realigned = 0, all_unflagged = 0;
   double sum_ms = 0.0, max_ms = 0.0, sum_M = 0.0, min_M = std::numeric_limits<double>::infinity();
   int classified_frames = 0, too_few_frames = 0;
   GrayImage gray, prev_gray;
@@ -97,7 +104,17 @@ void run_frontend(const FrontendCliOptions& o) {
       tracker.relocate(moved_ids, moved_uv);
       refound = s.refound_count;
     }
-    if (o.search.enabled) prev_gray = gray;
+    int realigned = 0, unflagged = 0;
+    if (o.realign.enabled && !prev.empty()) {  // dynamic flags re-aligned by an affine warp
+      const AffineRealignResult a = realign_affine(prev_gray, gray, prev, &cur, filter, &c, o.realign);
+      std::vector<std::int64_t> moved_ids;
+      std::vector<Eigen::Vector2d> moved_uv;
+      for (std::size_t m = 0; m < a.realigned.size(); ++m)
+        if (a.realigned[m]) moved_ids.push_back(ids[m]), moved_uv.push_back(cur[m]), t.features[m].uv = cur[m];
+      tracker.relocate(moved_ids, moved_uv);
+      realigned = a.realigned_count, unflagged = a.unflagged_count;
+    }
+    if (o.search.enabled || o.realign.enabled) prev_gray = gray;
     const double ms = clock.seconds() * 1e3;
     // Flags per feature: the tracked ones come first in t.features, in the order of the matches.
     std::vector<FeatureMotion> flags(t.features.size(), FeatureMotion::kUnknown);
@@ -107,6 +124,7 @@ void run_frontend(const FrontendCliOptions& o) {
       sum_ms += ms, max_ms = std::max(max_ms, ms);
       ++status_count[to_string(c.status)];
       all_static += c.n_static, all_dynamic += c.n_dynamic, all_unknown += c.n_unknown, all_refound += refound;
+      all_realigned += realigned, all_unflagged += unflagged;
       if (c.n_static + c.n_dynamic > 0) sum_M += c.static_ratio, min_M = std::min(min_M, c.static_ratio), ++classified_frames;
       if (c.status == ClassificationStatus::kTooFewMatches) {
         ++too_few_frames;
@@ -119,6 +137,7 @@ void run_frontend(const FrontendCliOptions& o) {
                       {"tracked", t.tracked}, {"detected", t.detected}, {"lost_klt", t.lost_klt},
                       {"lost_forward_backward", t.lost_forward_backward}, {"lost_border", t.lost_border},
                       {"lost_appearance", t.lost_appearance}, {"refound_epipolar", refound},
+                      {"realigned_affine", realigned}, {"unflagged_affine", unflagged},
                       {"static", c.n_static}, {"dynamic", c.n_dynamic}, {"unknown", has_matches ? c.n_unknown : 0},
                       {"static_ratio", c.static_ratio}, {"status", has_matches ? to_string(c.status) : "first_frame"},
                       {"median_flow_px", c.median_flow_px}, {"time_ms", ms}});
@@ -160,6 +179,7 @@ void run_frontend(const FrontendCliOptions& o) {
                   {"ransac_threshold_px", o.filter.ransac_threshold_px},
                   {"static_camera_flow_px", o.filter.static_camera_flow_px},
                   {"epipolar_search", o.search.enabled}, {"search_range_px", o.search.search_half_px},
+                  {"affine_realign", o.realign.enabled}, {"affine_min_correlation", o.realign.min_correlation},
                   {"search_ncc_drop", o.search.max_ncc_drop}, {"search_scan_px", o.search.line_scan_half_px}, {"search_min_ncc", o.search.min_ncc}};
   j["frames"] = k;
   j["static_ratio"] = {{"mean", classified_frames ? sum_M / classified_frames : 1.0},
@@ -168,6 +188,8 @@ void run_frontend(const FrontendCliOptions& o) {
   j["features_dynamic"] = all_dynamic;
   j["features_unknown"] = all_unknown;
   j["features_refound_epipolar"] = all_refound;
+  j["features_realigned_affine"] = all_realigned;
+  j["features_unflagged_affine"] = all_unflagged;
   j["share_dynamic"] = classified ? double(all_dynamic) / classified : 0.0;
   j["frames_too_few_matches"] = too_few_frames;
   j["classification_status"] = status_count;
@@ -234,6 +256,12 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--static-camera-flow", o->filter.static_camera_flow_px,
                   "median flow below which the camera counts as static (px; negative: never)")
       ->capture_default_str();
+  sub->add_option("--affine-realign", o->realign.enabled,
+                  "align each dynamic-flagged feature's patch with the new frame by an affine warp (ECC) before its flag "
+                  "counts; the track moves there, static if it now lies on its epipolar line")->capture_default_str();
+  sub->add_option("--affine-min-correlation", o->realign.min_correlation,
+                  "with --affine-realign: the alignment's normalized correlation must reach this")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
   sub->add_option("--epipolar-search", o->search.enabled,
                   "re-search each dynamic-flagged feature along its epipolar line (KLT from seeds on the line); "
                   "re-found with a patch as good as its track's: static")->capture_default_str();

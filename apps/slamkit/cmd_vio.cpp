@@ -67,6 +67,10 @@ void run_vio(const VioCliOptions& o) {
   nlohmann::json frontend;
   VioImageCliOptions io = o.image;
   io.sim = o.sim, io.data = o.data, io.seed = o.seed, io.dynamic = o.dynamic, io.duration = o.duration, io.quiet = o.quiet;
+  if (o.dvi != "on") {  // the baseline: the classifier only observes (scores); it never moves a track
+    io.vio.frontend.affine_realign.enabled = false;
+    io.vio.frontend.epipolar_search.enabled = false;
+  }
   const VisualInertialSim sim =
       o.images ? image_vio_run(io, &frontend, o.json == "-" ? std::cerr : std::cout) : load_visual_inertial_run(o);
   VioStartupOptions startup;
@@ -314,6 +318,17 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 2.0))->capture_default_str();
   sub->add_option("--epipolar-search-min-ncc", o->image.vio.frontend.epipolar_search.min_ncc,
                   "with --images --epipolar-search: and its patch NCC >= this")->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--affine-realign", o->image.vio.frontend.affine_realign.enabled,
+                  "with --images: align each dynamic-flagged feature's patch over its test's baseline by an affine warp "
+                  "(ECC) before the flag counts; the track moves there")
+      ->capture_default_str();
+  sub->add_option("--affine-min-correlation", o->image.vio.frontend.affine_realign.min_correlation,
+                  "with --images --affine-realign: the alignment's normalized correlation must reach this")
+      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--affine-static-ratio", o->image.vio.frontend.affine_realign.static_distance_ratio,
+                  "with --images --affine-realign: a realigned feature turns static at most this fraction of the threshold "
+                  "off its epipolar line")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
                   "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
       ->check(cli::NonNegativeNumber)->capture_default_str();

@@ -1,6 +1,7 @@
 // The image path of `slamkit vio` (see vio_images.h).
 #include "vio_images.h"
 
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <fstream>
@@ -29,6 +30,11 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                      std::to_string(fo.consistency_hits) + " hits of " + std::to_string(fo.consistency_checks) +
                          " checks: must be at most --consistency-checks");
   check_epipolar_search_input(fo.epipolar_search, "--epipolar-search-range");
+  try {
+    check_affine_realign_options(fo.affine_realign);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--affine-min-correlation", 0, "affine_realign", e.what());
+  }
   if (!(o.vio.score_min_distance_m <= o.vio.score_max_distance_m))  // also NaN
     throw InputError("--score-min-distance", 0, "score_min_distance_m",
                      "the scored distance range [" + std::to_string(o.vio.score_min_distance_m) + ", " +
@@ -57,12 +63,15 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
   if (!o.feature_log.empty()) {
     feature_log.open(o.feature_log);
     if (!feature_log) throw InputError(o.feature_log, 0, "feature_log", "cannot write the file");
-    feature_log << "frame,id,u,v,u_then,v_then,baseline,motion,distance_px,distance_1_px,hits,checks,truth,object_distance_m\n";
+    feature_log << "frame,id,u,v,u_then,v_then,baseline,motion,distance_px,distance_1_px,hits,checks,truth,object_distance_m,scene_range_m\n";
     feature_log.precision(9);
-    vo.on_scored = [&feature_log](std::size_t k, const FrontendFeature& f, int truth, double d) {
+    // scene_range_m: the true range of the ray through the feature at frame k (the renderer's nearest hit).
+    vo.on_scored = [&feature_log, &sim, &renderer](std::size_t k, const FrontendFeature& f, int truth, double d) {
+      const SimFrame& frame = sim.frames.at(k);
+      const RayHit hit = renderer.cast(frame.t, frame_camera_pose(sim, frame), f.uv);
       feature_log << k << ',' << f.id << ',' << f.uv.x() << ',' << f.uv.y() << ',' << f.uv_then.x() << ',' << f.uv_then.y()
                   << ',' << f.baseline << ',' << to_string(f.motion) << ',' << f.distance_px << ',' << f.distance_1_px << ',' << f.hits << ','
-                  << f.checks << ',' << truth << ',' << d << '\n';
+                  << f.checks << ',' << truth << ',' << d << ',' << (hit.hit ? hit.distance : std::nan("")) << '\n';
     };
   }
   VisualInertialSim tracked = track_images(sim, source, walker_speeds(scene), walker_distances(scene, sim), vo, &report,
@@ -120,6 +129,9 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                                  {"false_negative", c.false_negative}, {"true_negative", c.true_negative},
                                  {"excluded_slow", c.excluded}}},
                {"static_ratio", {{"mean", report.static_ratio_mean}, {"min", report.static_ratio_min}}},
+               {"affine_realign", o.vio.frontend.affine_realign.enabled},
+               {"realigned_affine", report.realigned_affine},
+               {"unflagged_affine", report.unflagged_affine},
                {"frames_too_few_matches", report.frames_too_few_matches},
                {"frames_no_fundamental", report.frames_no_fundamental},
                {"frames_static_camera", report.frames_static_camera},

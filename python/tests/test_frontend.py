@@ -160,6 +160,35 @@ def test_epipolar_search_options():
         sk.ImageFrontend(epipolar_search=True, epipolar_search_ncc_drop=-1.0)
 
 
+def test_affine_realign_options():
+    o = sk.FrontendOptions()
+    assert o.affine_realign is True and o.affine_min_correlation == 0.8  # on by default since session 35
+    o = sk.FrontendOptions(affine_realign=False, affine_min_correlation=0.9)
+    f = sk.ImageFrontend(o).options
+    assert (f.affine_realign, f.affine_min_correlation) == (False, 0.9)
+    assert "affine_realign=False" in repr(o)
+    with pytest.raises(ValueError, match="min_correlation"):
+        sk.ImageFrontend(affine_min_correlation=float("nan"))
+    with pytest.raises(ValueError, match="min_correlation"):
+        sk.ImageFrontend(affine_min_correlation=1.5)
+
+
+def test_affine_realign_counts_on_a_real_pair():
+    require_data("vio/dynamic_video")
+    d = data_root() / "vio" / "dynamic_video"
+    a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+    frames = {}
+    for on in (False, True):
+        f = sk.ImageFrontend(baseline_frames=1, affine_realign=on)
+        f.process(a)
+        frames[on] = f.process(b)
+    off, on = frames[False], frames[True]
+    assert off.n_realigned_affine == 0 and off.n_unflagged_affine == 0
+    assert on.n_realigned_affine > 0 and 0 <= on.n_unflagged_affine <= on.n_realigned_affine
+    assert on.n_dynamic == off.n_dynamic - on.n_unflagged_affine  # the same tracks; only flagged ones move
+    assert on.n_dynamic > 10  # the players still move
+
+
 CAMCHAIN = """cam0:
   T_cam_imu:
     - [1.0, 0.0, 0.0, 0.0]

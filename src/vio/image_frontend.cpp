@@ -37,6 +37,7 @@ ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const
   if (options_.consistency_hits < 1 || options_.consistency_hits > options_.consistency_checks)
     throw std::invalid_argument("ImageFrontend: consistency_hits must be in 1..consistency_checks");
   check_epipolar_search_options(options_.epipolar_search);
+  check_affine_realign_options(options_.affine_realign);
 }
 
 FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int hits, bool was_dynamic) {
@@ -59,7 +60,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   // Current pixels of the test (the tracks', or their RLOF test chain's); the re-search may move them.
   std::vector<Eigen::Vector2d> uv_now(tracked.size());
   for (std::size_t i = 0; i < tracked.size(); ++i) uv_now[i] = tracked[i].uv_test;
-  std::vector<char> refound(tracked.size(), 0);
+  std::vector<char> refound(tracked.size(), 0);  // moved by the re-search or the re-alignment
   bool moved = false;
   for (std::size_t i = 0; i < tracked.size(); ++i) {
     out.features[i].id = tracked[i].id;
@@ -113,6 +114,15 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
         if (s.refound[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
       out.n_refound_epipolar += s.refound_count;
     }
+    if (options_.affine_realign.enabled && b <= static_cast<int>(frames_.size())) {
+      std::vector<char> tested(index.size());
+      for (std::size_t m = 0; m < index.size(); ++m) tested[m] = baseline[index[m]] == b;
+      const AffineRealignResult a =
+          realign_affine(frames_[b - 1], frame, p1, &p2, filter, &c, options_.affine_realign, &tested);
+      for (std::size_t m = 0; m < index.size(); ++m)
+        if (a.realigned[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
+      out.n_realigned_affine += a.realigned_count, out.n_unflagged_affine += a.unflagged_count;
+    }
     if (b == longest) out.status = c.status, out.motion_model = c.motion_model;
     for (std::size_t m = 0; m < index.size(); ++m) {
       FrontendFeature& f = out.features[index[m]];
@@ -124,7 +134,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
       f.uv_then = p1[m];
     }
   }
-  if (moved) {  // re-found on the epipolar line: the track continues from there
+  if (moved) {  // re-found on the epipolar line or realigned: the track continues from there
     std::vector<std::int64_t> ids;
     std::vector<Eigen::Vector2d> uv;
     for (std::size_t i = 0; i < out.features.size(); ++i)

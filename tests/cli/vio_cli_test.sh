@@ -61,11 +61,23 @@ PY
 [[ $? -eq 2 ]] && grep -q -- "--rotation-prior-sigma" "$work/e8.txt" || fail "--rotation-prior-sigma -1: $(cat "$work/e8.txt")"
 # A KLT window or scoring patch out of range, or an RLOF switch other than on/off, is a usage error
 # (exit 2) naming the option.
-for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe" "--dvi-startup maybe" "--max-rotation-rms -1" "--max-rotation-rms nan" "--max-scale-sigma -1"; do
+for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe" "--dvi-startup maybe" "--max-rotation-rms -1" "--max-rotation-rms nan" "--max-scale-sigma -1" "--affine-realign maybe" "--affine-static-ratio 2" "--affine-min-correlation 3"; do
   # shellcheck disable=SC2086
   "$slamkit" vio --sim room1 --duration 1 --images --data "$data" $bad >"$work/e9.txt" 2>&1
   [[ $? -eq 2 ]] && grep -q -- "${bad%% *}" "$work/e9.txt" || fail "$bad: $(cat "$work/e9.txt")"
 done
+# The affine re-alignment (on by default) belongs to the dynamic check: in the baseline (--dvi off)
+# the classifier only scores, it never moves a track, so the JSON reports it off there.
+for mode in on off; do
+  "$slamkit" vio --sim room1 --seed 3 --duration 10 --images --data "$data" --dvi $mode --dynamic high --quiet \
+    --json "$work/a_$mode.json" >"$work/a_$mode.txt" 2>&1 || fail "vio --images --dvi $mode: $(cat "$work/a_$mode.txt")"
+done
+python3 - "$work/a_on.json" "$work/a_off.json" <<'PY' || fail "affine re-alignment not reported as expected"
+import json, sys
+on, off = (json.load(open(f))["frontend"] for f in sys.argv[1:3])
+assert on["affine_realign"] is True and on["realigned_affine"] > 0 and 0 < on["unflagged_affine"] <= on["realigned_affine"], on
+assert off["affine_realign"] is False and off["realigned_affine"] == 0 and off["unflagged_affine"] == 0, off
+PY
 # An unknown name, a run too short to initialize, a calibration file without a needed field.
 "$slamkit" vio --sim room9 --data "$data" >"$work/e3.txt" 2>&1
 [[ $? -eq 1 ]] && grep -q "euroc:V1_01" "$work/e3.txt" || fail "unknown sequence: $(cat "$work/e3.txt")"

@@ -56,6 +56,10 @@ struct RenderedRun {
     o.frontend.tracker.max_features = 100;
     o.frontend.tracker.min_distance_px = 15.0;
     o.frontend.tracker.klt_window = 15;
+    // The affine re-alignment (on by default since session 35) is off here: these half-resolution
+    // renders have few track errors for it to fix (measured on seed 2: false alarms 10 → 8, k = 4
+    // recall 0.837 → 0.785); tests/vio/image_frontend_realign_test.cpp tests it at full resolution.
+    o.frontend.affine_realign.enabled = false;
     return o;
   }
   // Frames are rendered once and reused by every front-end run of the test.

@@ -30,6 +30,9 @@
 // whose tracks are new or flagged, cannot take over the RANSAC.
 // Epipolar re-search (epipolar_search): each test's dynamic flags are re-searched along the
 // epipolar line in that test's frame pair; a re-found feature is static and its track moves.
+// Affine re-alignment (affine_realign): each test's dynamic flags get their patch of frame t − b
+// aligned with frame t under an affine warp (feature_affine_realign.h); the track moves to the
+// aligned pixel, and the flag turns static if that pixel lies on the epipolar line.
 // IMU-aided model (filter.known_rotation, session 28): process() may be given the camera's rotation
 // since the previous frame (e.g. from the gyroscope); a test over b frames is given the product of
 // the last b of them (none if one is missing) and fits only the translation direction.
@@ -48,14 +51,24 @@
 
 #include "slamkit/geometry/camera_models.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
+#include "slamkit/vio/feature_affine_realign.h"
 #include "slamkit/vio/feature_epipolar_search.h"
 #include "slamkit/vio/feature_tracker.h"
 
 namespace slamkit {
 
+/// The image front end's test: P4's 1 px threshold lowered to 0.9 px (session 35: with the affine
+/// re-alignment removing most static track errors, 0.9 px keeps the 2–6 m recall above 0.8 on the
+/// rendered rooms; docs/frontend.md). `slamkit frontend` (frame to frame) keeps 1 px.
+inline DynamicFilterOptions image_frontend_filter() {
+  DynamicFilterOptions f;
+  f.threshold_px = 0.9;
+  return f;
+}
+
 struct ImageFrontendOptions {
   FeatureTrackerOptions tracker;
-  DynamicFilterOptions filter;
+  DynamicFilterOptions filter = image_frontend_filter();
   int baseline_frames = 4;      ///< k: the longest baseline of the epipolar test (1: frame to frame)
   bool sticky_dynamic = false;  ///< a track flagged dynamic once stays dynamic (measured: worse precision)
   /// The test on baseline b uses threshold_px · b^e: a mover's epipolar distance grows like b, the
@@ -82,6 +95,9 @@ struct ImageFrontendOptions {
   /// the frame pair of that test (feature_epipolar_search.h); re-found: static, and the track moves
   /// to the re-found pixel.
   EpipolarSearchOptions epipolar_search;
+  /// Before a test's dynamic flag counts, the feature's patch over that test's baseline is aligned
+  /// by an affine warp (feature_affine_realign.h); the track moves to the aligned pixel.
+  AffineRealignOptions affine_realign;
 };
 
 struct FrontendFeature {
@@ -106,6 +122,8 @@ struct FrontendFrameResult {
   int n_rejected_appearance = 0;  ///< tracks rejected by the appearance check over the baseline
   int n_rejected_first_patch = 0;  ///< tracks rejected by the appearance check against their first frame
   int n_refound_epipolar = 0;     ///< dynamic flags withdrawn by the epipolar re-search
+  int n_realigned_affine = 0;     ///< dynamic-flagged features moved by the affine re-alignment
+  int n_unflagged_affine = 0;     ///< of those, the ones that turned static
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
   MotionModel motion_model = MotionModel::kEstimated;  ///< of the longest baseline run this frame
@@ -134,8 +152,10 @@ class ImageFrontend {
   std::deque<std::unordered_map<std::int64_t, Eigen::Vector2d>> history_;
   /// rotations_[j]: R from frame t − 2 − j to frame t − 1 − j (R_cur_prev of frame t − 1 − j), if given.
   std::deque<std::optional<Eigen::Matrix3d>> rotations_;
-  std::deque<GrayImage> frames_;  ///< frames_[j]: frame t − 1 − j (only with the appearance check or re-search)
-  bool keep_frames() const { return options_.min_patch_ncc_baseline > -1.0 || options_.epipolar_search.enabled; }
+  std::deque<GrayImage> frames_;  ///< frames_[j]: frame t − 1 − j (only with the appearance check, re-search or re-alignment)
+  bool keep_frames() const {
+    return options_.min_patch_ncc_baseline > -1.0 || options_.epipolar_search.enabled || options_.affine_realign.enabled;
+  }
   std::unordered_set<std::int64_t> flagged_dynamic_;
   /// Per live track: bit i = the test i frames ago exceeded the threshold; and the number of tests.
   struct TestHistory {
