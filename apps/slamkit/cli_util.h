@@ -44,6 +44,18 @@ inline CLI::Validator number_at_least(double low, bool strict, const char* name)
       },
       name);
 }
+/// A finite number in [low, high] ((low, high] with strict_low); refuses NaN, as above.
+inline CLI::Validator FiniteRange(double low, double high, bool strict_low = false) {
+  return CLI::Validator(
+      [low, high, strict_low](std::string& text) -> std::string {
+        double x = 0.0;
+        if (!CLI::detail::lexical_cast(text, x) || !std::isfinite(x) || x < low || x > high || (strict_low && x == low))
+          return "Value " + text + " is not a finite number in " + (strict_low ? "(" : "[") + CLI::detail::to_string(low) +
+                 ", " + CLI::detail::to_string(high) + "]";
+        return {};
+      },
+      std::string("FINITE in ") + (strict_low ? "(" : "[") + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]");
+}
 inline const CLI::Validator NonNegativeNumber = number_at_least(0.0, false, "NONNEGATIVE");
 inline const CLI::Validator PositiveNumber = number_at_least(0.0, true, "POSITIVE");
 

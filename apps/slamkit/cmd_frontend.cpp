@@ -49,7 +49,7 @@ void run_frontend(const FrontendCliOptions& o) {
   try {
     check_affine_realign_options(o.realign);
   } catch (const std::invalid_argument& e) {
-    throw InputError("--affine-min-correlation", 0, "affine_realign", e.what());
+    throw InputError("--affine-realign", 0, "affine_realign", e.what());
   }
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
@@ -261,7 +261,7 @@ void add_frontend_command(CLI::App& app) {
                   "counts; the track moves there, static if it now lies on its epipolar line")->capture_default_str();
   sub->add_option("--affine-min-correlation", o->realign.min_correlation,
                   "with --affine-realign: the alignment's normalized correlation must reach this")
-      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+      ->check(cli::FiniteRange(-1.0, 1.0))->capture_default_str();
   sub->add_option("--epipolar-search", o->search.enabled,
                   "re-search each dynamic-flagged feature along its epipolar line (KLT from seeds on the line); "
                   "re-found with a patch as good as its track's: static")->capture_default_str();

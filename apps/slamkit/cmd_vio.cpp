@@ -324,11 +324,11 @@ void add_vio_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--affine-min-correlation", o->image.vio.frontend.affine_realign.min_correlation,
                   "with --images --affine-realign: the alignment's normalized correlation must reach this")
-      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
+      ->check(cli::FiniteRange(-1.0, 1.0))->capture_default_str();
   sub->add_option("--affine-static-ratio", o->image.vio.frontend.affine_realign.static_distance_ratio,
                   "with --images --affine-realign: a realigned feature turns static at most this fraction of the threshold "
                   "off its epipolar line")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(cli::FiniteRange(0.0, 1.0, true))->capture_default_str();
   sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
                   "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
       ->check(cli::NonNegativeNumber)->capture_default_str();

@@ -81,8 +81,8 @@ assert on["features_dynamic"] <= off["features_dynamic"], (on["features_dynamic"
 PY
 "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe9" --affine-min-correlation nan \
   >"$work/e0d.txt" 2>&1
-[[ $? -eq 1 ]] || fail "--affine-min-correlation nan did not exit 1 (input error): $(cat "$work/e0d.txt")"
-grep -q "affine" "$work/e0d.txt" || fail "--affine-min-correlation nan: the error does not name the option: $(cat "$work/e0d.txt")"
+[[ $? -eq 2 ]] || fail "--affine-min-correlation nan did not exit 2 (usage error): $(cat "$work/e0d.txt")"
+grep -q -- "--affine-min-correlation" "$work/e0d.txt" || fail "--affine-min-correlation nan: the error does not name the option: $(cat "$work/e0d.txt")"
 "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe7" --rlof-refine maybe \
   >"$work/e0c.txt" 2>&1 && fail "--rlof-refine maybe accepted"
 "$slamkit" frontend "$video_dir/aloeL.jpg" "$video_dir/aloeR.jpg" --out "$work/aloe4" --epipolar-search maybe \

@@ -61,7 +61,7 @@ PY
 [[ $? -eq 2 ]] && grep -q -- "--rotation-prior-sigma" "$work/e8.txt" || fail "--rotation-prior-sigma -1: $(cat "$work/e8.txt")"
 # A KLT window or scoring patch out of range, or an RLOF switch other than on/off, is a usage error
 # (exit 2) naming the option.
-for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe" "--dvi-startup maybe" "--max-rotation-rms -1" "--max-rotation-rms nan" "--max-scale-sigma -1" "--affine-realign maybe" "--affine-static-ratio 2" "--affine-min-correlation 3"; do
+for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe" "--dvi-startup maybe" "--max-rotation-rms -1" "--max-rotation-rms nan" "--max-scale-sigma -1" "--affine-realign maybe" "--affine-static-ratio 2" "--affine-static-ratio 0" "--affine-min-correlation nan"; do
   # shellcheck disable=SC2086
   "$slamkit" vio --sim room1 --duration 1 --images --data "$data" $bad >"$work/e9.txt" 2>&1
   [[ $? -eq 2 ]] && grep -q -- "${bad%% *}" "$work/e9.txt" || fail "$bad: $(cat "$work/e9.txt")"
