@@ -94,24 +94,23 @@ void run_frontend(const FrontendCliOptions& o) {
     std::vector<std::int64_t> ids;
     t.matches(&prev, &cur, &ids);
     Classification c = filter.classify(prev, cur);
-    int refound = 0;
+    // The tracks of the matches with moved[m] continue from their new pixel cur[m].
+    const auto relocate = [&](const std::vector<char>& moved) {
+      std::vector<std::int64_t> moved_ids;
+      std::vector<Eigen::Vector2d> moved_uv;
+      for (std::size_t m = 0; m < moved.size(); ++m)
+        if (moved[m]) moved_ids.push_back(ids[m]), moved_uv.push_back(cur[m]), t.features[m].uv = cur[m];
+      tracker.relocate(moved_ids, moved_uv);
+    };
+    int refound = 0, realigned = 0, unflagged = 0;
     if (o.search.enabled && !prev.empty()) {  // dynamic flags re-searched on their epipolar line
       const EpipolarSearchResult s = search_along_epipolar(prev_gray, gray, prev, &cur, filter, &c, o.search);
-      std::vector<std::int64_t> moved_ids;
-      std::vector<Eigen::Vector2d> moved_uv;
-      for (std::size_t m = 0; m < s.refound.size(); ++m)
-        if (s.refound[m]) moved_ids.push_back(ids[m]), moved_uv.push_back(cur[m]), t.features[m].uv = cur[m];
-      tracker.relocate(moved_ids, moved_uv);
+      relocate(s.refound);
       refound = s.refound_count;
     }
-    int realigned = 0, unflagged = 0;
     if (o.realign.enabled && !prev.empty()) {  // dynamic flags re-aligned by an affine warp
       const AffineRealignResult a = realign_affine(prev_gray, gray, prev, &cur, filter, &c, o.realign);
-      std::vector<std::int64_t> moved_ids;
-      std::vector<Eigen::Vector2d> moved_uv;
-      for (std::size_t m = 0; m < a.realigned.size(); ++m)
-        if (a.realigned[m]) moved_ids.push_back(ids[m]), moved_uv.push_back(cur[m]), t.features[m].uv = cur[m];
-      tracker.relocate(moved_ids, moved_uv);
+      relocate(a.realigned);
       realigned = a.realigned_count, unflagged = a.unflagged_count;
     }
     if (o.search.enabled || o.realign.enabled) prev_gray = gray;

@@ -12,6 +12,8 @@
 
 #include "slamkit/vio/dynamic_feature_filter.h"
 #include "slamkit/vio/feature_affine_realign.h"
+#include "testing/rectangle_canvas.h"
+#include "testing/row_epipolar_model.h"
 
 namespace slamkit {
 namespace {
@@ -20,33 +22,12 @@ constexpr int kSize = 200;
 constexpr double kStretch = 1.06, kShift = 5.0;
 constexpr int kMoverX = 150, kMoverY = 140, kMoverHalf = 24, kMoverDown = 8;
 
-// Random filled rectangles (real corners), sampled bilinearly at any point.
-struct Canvas {
-  int size;
-  std::vector<double> value;
-  Canvas(int n, int s, unsigned seed) : size(s), value(std::size_t(s) * s, 128.0) {
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> pos(0, s - 1), side(5, 24), a(-60, 60);
-    for (int r = 0; r < n; ++r) {
-      const int x0 = pos(rng), y0 = pos(rng), w = side(rng), h = side(rng), amp = a(rng);
-      for (int y = y0; y < std::min(s, y0 + h); ++y)
-        for (int x = x0; x < std::min(s, x0 + w); ++x) value[std::size_t(y) * s + x] += amp;
-    }
-  }
-  double at(int x, int y) const { return value[std::size_t(std::clamp(y, 0, size - 1)) * size + std::clamp(x, 0, size - 1)]; }
-  double sample(double x, double y) const {
-    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-    const double fx = x - x0, fy = y - y0;
-    return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
-  }
-};
-
-std::uint8_t gray(double v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L)); }
+using Canvas = testing::RectangleCanvas;
 
 // Frame 1 (second = false) or frame 2: the background warped by x' = kStretch x + kShift, the
 // mover's square (a second texture, not stretched) moved by (kShift, kMoverDown).
 GrayImage render(bool second) {
-  static const Canvas background(450, kSize + 20, 5), mover(60, 2 * kMoverHalf + 1, 9);
+  static const Canvas background(450, kSize + 20, 5, 24), mover(60, 2 * kMoverHalf + 1, 9, 24);
   GrayImage g(kSize, kSize, 0);
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) {
@@ -54,24 +35,15 @@ GrayImage render(bool second) {
       const double mx = x - dx - (kMoverX - kMoverHalf), my = y - dy - (kMoverY - kMoverHalf);
       const bool on_mover = mx >= 0 && my >= 0 && mx <= 2 * kMoverHalf && my <= 2 * kMoverHalf;
       const double bx = second ? (x - kShift) / kStretch : x;
-      g.at(x, y) = gray(on_mover ? mover.sample(mx, my) : background.sample(bx + 10, y + 10));
+      g.at(x, y) = Canvas::gray(on_mover ? mover.sample(mx, my) : background.sample(bx + 10, y + 10));
     }
   return g;
 }
 
 Eigen::Vector2d warp(const Eigen::Vector2d& p) { return {kStretch * p.x() + kShift, p.y()}; }
 
-// The classification of a motion along x: l = (1, 0, 0) × p1 = (0, −1, y1), the row y = y1.
-Classification along_x(const std::vector<FeatureMotion>& flags) {
-  Classification c;
-  c.status = ClassificationStatus::kEpipolar;
-  c.F << 0, 0, 0, 0, 0, -1, 0, 1, 0;
-  c.flags = flags;
-  c.distance_px.assign(flags.size(), 2.5);
-  for (FeatureMotion f : flags) (f == FeatureMotion::kStatic ? c.n_static : c.n_dynamic)++;
-  c.static_ratio = double(c.n_static) / flags.size();
-  return c;
-}
+// The classification of a motion along x: every epipolar line is a row.
+Classification along_x(const std::vector<FeatureMotion>& flags) { return testing::rows_as_epipolar_lines(flags, 2.5); }
 
 AffineRealignOptions enabled() {
   AffineRealignOptions o;

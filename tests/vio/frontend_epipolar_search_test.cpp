@@ -14,6 +14,8 @@
 #include "slamkit/geometry/camera_models.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
 #include "slamkit/vio/feature_epipolar_search.h"
+#include "testing/rectangle_canvas.h"
+#include "testing/row_epipolar_model.h"
 
 namespace slamkit {
 namespace {
@@ -25,23 +27,7 @@ constexpr int kMoverHalf = 24, kMoverDown = 10;
 
 // Integer-grid texture of random filled rectangles (real corners), sampled at integer offsets so
 // that the shifts are exact.
-struct Canvas {
-  int size;
-  std::vector<double> value;
-  Canvas(int n, int s, unsigned seed) : size(s), value(std::size_t(s) * s, 128.0) {
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> pos(0, s - 1), side(5, 26), a(-60, 60);
-    for (int r = 0; r < n; ++r) {
-      const int x0 = pos(rng), y0 = pos(rng), w = side(rng), h = side(rng), amp = a(rng);
-      for (int y = y0; y < std::min(s, y0 + h); ++y)
-        for (int x = x0; x < std::min(s, x0 + w); ++x) value[std::size_t(y) * s + x] += amp;
-    }
-  }
-  std::uint8_t at(int x, int y) const {
-    const double v = value[std::size_t(std::clamp(y, 0, size - 1)) * size + std::clamp(x, 0, size - 1)];
-    return static_cast<std::uint8_t>(std::clamp(v, 0.0, 255.0));
-  }
-};
+using Canvas = testing::RectangleCanvas;
 
 // Frame 1 (moved = false) or frame 2: the background shifted by kShift, the mover's square (from
 // a second texture) by (kShift, kMoverDown).
@@ -53,22 +39,13 @@ GrayImage render(bool moved) {
     for (int x = 0; x < kSize; ++x) {
       const int mx = x - dx - (kMoverX - kMoverHalf), my = y - dy - (kMoverY - kMoverHalf);
       const bool on_mover = mx >= 0 && my >= 0 && mx <= 2 * kMoverHalf && my <= 2 * kMoverHalf;
-      g.at(x, y) = on_mover ? mover.at(mx, my) : background.at(x - dx + 10, y + 10);
+      g.at(x, y) = Canvas::gray(on_mover ? mover.at(mx, my) : background.at(x - dx + 10, y + 10));
     }
   return g;
 }
 
-// The classification of a pure x translation: l = (1, 0, 0) × p1 = (0, −1, y1), the row y = y1.
-Classification translation_along_x(const std::vector<FeatureMotion>& flags) {
-  Classification c;
-  c.status = ClassificationStatus::kEpipolar;
-  c.F << 0, 0, 0, 0, 0, -1, 0, 1, 0;
-  c.flags = flags;
-  c.distance_px.assign(flags.size(), 5.0);
-  for (FeatureMotion f : flags) (f == FeatureMotion::kStatic ? c.n_static : c.n_dynamic)++;
-  c.static_ratio = double(c.n_static) / flags.size();
-  return c;
-}
+// The classification of a motion along x: every epipolar line is a row.
+Classification translation_along_x(const std::vector<FeatureMotion>& flags) { return testing::rows_as_epipolar_lines(flags, 5.0); }
 
 TEST(EpipolarSearch, RefindsAStaticTrackErrorAndKeepsTheMoverDynamic) {
   const GrayImage a = render(false), b = render(true);
