@@ -134,7 +134,7 @@ const std::vector<const char*> kOptionFields = {
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc", "affine_realign",
-    "affine_min_correlation"};
+    "affine_min_correlation", "affine_refit_model"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -190,6 +190,8 @@ void init_frontend(py::module_& m) {
         "counts; the track moves there");
   field(opt, "affine_min_correlation", &AffineRealignOptions::min_correlation,
         "affine_realign: the alignment's normalized correlation must reach this");
+  field(opt, "affine_refit_model", &AffineRealignOptions::refit_model,
+        "affine_realign: fit the camera's motion again when features turn static, and re-align what it flags");
   named_field(opt, "gyro_klt", &FeatureTrackerOptions::gyro_klt, gyro_klt_name, parse_gyro_klt,
               "KLT seeded by the rotation given to process(): 'off', 'seed' ('on') or 'candidate'");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")

@@ -325,6 +325,10 @@ void add_vio_command(CLI::App& app) {
   sub->add_option("--affine-min-correlation", o->image.vio.frontend.affine_realign.min_correlation,
                   "with --images --affine-realign: the alignment's normalized correlation must reach this")
       ->check(cli::FiniteRange(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--affine-refit", o->image.vio.frontend.affine_realign.refit_model,
+                  "with --images --affine-realign: fit the camera's motion again when features turn static, and "
+                  "re-align what it flags")
+      ->capture_default_str();
   sub->add_option("--affine-static-ratio", o->image.vio.frontend.affine_realign.static_distance_ratio,
                   "with --images --affine-realign: a realigned feature turns static at most this fraction of the threshold "
                   "off its epipolar line")

@@ -130,6 +130,8 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                                  {"excluded_slow", c.excluded}}},
                {"static_ratio", {{"mean", report.static_ratio_mean}, {"min", report.static_ratio_min}}},
                {"affine_realign", o.vio.frontend.affine_realign.enabled},
+               {"affine_refit", o.vio.frontend.affine_realign.refit_model},
+               {"refits_affine", report.refits_affine},
                {"realigned_affine", report.realigned_affine},
                {"unflagged_affine", report.unflagged_affine},
                {"frames_too_few_matches", report.frames_too_few_matches},

@@ -163,9 +163,10 @@ def test_epipolar_search_options():
 def test_affine_realign_options():
     o = sk.FrontendOptions()
     assert o.affine_realign is True and o.affine_min_correlation == 0.8  # on by default since session 35
-    o = sk.FrontendOptions(affine_realign=False, affine_min_correlation=0.9)
+    assert o.affine_refit_model is True and o.threshold_px == 0.9
+    o = sk.FrontendOptions(affine_realign=False, affine_min_correlation=0.9, affine_refit_model=False)
     f = sk.ImageFrontend(o).options
-    assert (f.affine_realign, f.affine_min_correlation) == (False, 0.9)
+    assert (f.affine_realign, f.affine_min_correlation, f.affine_refit_model) == (False, 0.9, False)
     assert "affine_realign=False" in repr(o)
     with pytest.raises(ValueError, match="min_correlation"):
         sk.ImageFrontend(affine_min_correlation=float("nan"))
@@ -178,15 +179,16 @@ def test_affine_realign_counts_on_a_real_pair():
     d = data_root() / "vio" / "dynamic_video"
     a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
     frames = {}
-    for on in (False, True):
-        f = sk.ImageFrontend(baseline_frames=1, affine_realign=on)
+    for mode in ("off", "on", "refit"):
+        f = sk.ImageFrontend(baseline_frames=1, affine_realign=mode != "off", affine_refit_model=mode == "refit")
         f.process(a)
-        frames[on] = f.process(b)
-    off, on = frames[False], frames[True]
+        frames[mode] = f.process(b)
+    off, on, refit = frames["off"], frames["on"], frames["refit"]
     assert off.n_realigned_affine == 0 and off.n_unflagged_affine == 0
     assert on.n_realigned_affine > 0 and 0 <= on.n_unflagged_affine <= on.n_realigned_affine
-    assert on.n_dynamic == off.n_dynamic - on.n_unflagged_affine  # the same tracks; only flagged ones move
-    assert on.n_dynamic > 10  # the players still move
+    assert on.n_dynamic == off.n_dynamic - on.n_unflagged_affine  # the same tracks and model; only flagged ones move
+    assert refit.n_dynamic <= off.n_dynamic  # the refitted model (the default) may unflag more
+    assert on.n_dynamic > 10 and refit.n_dynamic > 10  # the players still move
 
 
 CAMCHAIN = """cam0:

@@ -122,6 +122,32 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
       for (std::size_t m = 0; m < index.size(); ++m)
         if (a.realigned[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
       out.n_realigned_affine += a.realigned_count, out.n_unflagged_affine += a.unflagged_count;
+      // A better model: the camera's motion fitted again on the trusted tracks plus those the
+      // re-alignment turned static, and the features it flags re-aligned in turn.
+      if (options_.affine_realign.refit_model && options_.trusted_model && a.unflagged_count > 0) {
+        std::vector<char> trusted_more = trusted;
+        for (std::size_t m = 0; m < index.size(); ++m)
+          if (a.unflagged[m]) trusted_more[m] = 1;
+        Classification refit = filter.classify(p1, p2, &trusted_more, R ? &*R : nullptr);
+        // Kept only if it passes at least as many of the trusted tracks as the first model: a wrongly
+        // unflagged mover must not pull the model away from the static consensus.
+        const auto trusted_static = [&](const Classification& x) {
+          int n = 0;
+          for (std::size_t m = 0; m < index.size(); ++m) n += trusted[m] && x.flags[m] == FeatureMotion::kStatic;
+          return n;
+        };
+        if (refit.status == ClassificationStatus::kEpipolar && trusted_static(refit) >= trusted_static(c)) {
+          std::vector<char> again(index.size());
+          for (std::size_t m = 0; m < index.size(); ++m) again[m] = tested[m] && !a.realigned[m];
+          const AffineRealignResult a2 =
+              realign_affine(frames_[b - 1], frame, p1, &p2, filter, &refit, options_.affine_realign, &again);
+          for (std::size_t m = 0; m < index.size(); ++m)
+            if (a2.realigned[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
+          out.n_realigned_affine += a2.realigned_count, out.n_unflagged_affine += a2.unflagged_count;
+          ++out.n_refits_affine;
+          c = std::move(refit);
+        }
+      }
     }
     if (b == longest) out.status = c.status, out.motion_model = c.motion_model;
     for (std::size_t m = 0; m < index.size(); ++m) {

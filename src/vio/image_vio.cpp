@@ -204,6 +204,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       r.frames_gyro_seeded += f.tracking.gyro_seeded;
       r.frames_too_few_matches += f.status == ClassificationStatus::kTooFewMatches;
       r.realigned_affine += f.n_realigned_affine, r.unflagged_affine += f.n_unflagged_affine;
+      r.refits_affine += f.n_refits_affine;
       r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
       r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
       if (f.status == ClassificationStatus::kEpipolar) {

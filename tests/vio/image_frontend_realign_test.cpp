@@ -3,7 +3,7 @@
 // of the long-baseline test are mostly track errors (docs/frontend.md, "Session 35"), which the
 // re-alignment moves back onto their epipolar line; the walkers stay flagged. Measured (session 35,
 // the default front end otherwise): off precision 0.896 recall 0.902 (687 false alarms), realigned
-// 0.983 / 0.893 (102). Front end only (no window), about 18 s on 2 cores. Needs the TUM-VI ground
+// 0.984 / 0.892 (96, with the model refit). Front end only (no window), about 18 s on 2 cores. Needs the TUM-VI ground
 // truth and calibration (../shared/datasets/vio/tumvi).
 #include <gtest/gtest.h>
 

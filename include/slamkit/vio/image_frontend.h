@@ -32,7 +32,8 @@
 // epipolar line in that test's frame pair; a re-found feature is static and its track moves.
 // Affine re-alignment (affine_realign): each test's dynamic flags get their patch of frame t − b
 // aligned with frame t under an affine warp (feature_affine_realign.h); the track moves to the
-// aligned pixel, and the flag turns static if that pixel lies on the epipolar line.
+// aligned pixel, and the flag turns static if that pixel lies on the epipolar line; then the model is
+// fitted again with those tracks trusted, and what it flags is re-aligned in turn (refit_model).
 // IMU-aided model (filter.known_rotation, session 28): process() may be given the camera's rotation
 // since the previous frame (e.g. from the gyroscope); a test over b frames is given the product of
 // the last b of them (none if one is missing) and fits only the translation direction.
@@ -124,6 +125,7 @@ struct FrontendFrameResult {
   int n_refound_epipolar = 0;     ///< dynamic flags withdrawn by the epipolar re-search
   int n_realigned_affine = 0;     ///< dynamic-flagged features moved by the affine re-alignment
   int n_unflagged_affine = 0;     ///< of those, the ones that turned static
+  int n_refits_affine = 0;        ///< tests whose model was fitted again after the re-alignment
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
   MotionModel motion_model = MotionModel::kEstimated;  ///< of the longest baseline run this frame
