@@ -46,11 +46,7 @@ std::string progress_bar(int done, int total) {
 void run_frontend(const FrontendCliOptions& o) {
   check_outputs({{&o.json, "--json"}});
   check_epipolar_search_input(o.search, "--search-range");
-  try {
-    check_affine_realign_options(o.realign);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("--affine-realign", 0, "affine_realign", e.what());
-  }
+  check_affine_realign_input(o.realign);
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
   if (!std::filesystem::is_directory(o.out)) throw InputError(o.out, 0, "--out", "cannot create the output directory");

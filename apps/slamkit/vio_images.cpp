@@ -21,6 +21,14 @@ void check_epipolar_search_input(const EpipolarSearchOptions& o, const char* opt
   }
 }
 
+void check_affine_realign_input(const AffineRealignOptions& o) {
+  try {
+    check_affine_realign_options(o);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--affine-realign", 0, "affine_realign", e.what());
+  }
+}
+
 VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log) {
   if (!is_visual_inertial_sequence_name(o.sim))
     throw InputError(o.sim, 0, "sim", "--images needs a named sequence (room1..room4, euroc:...): the renderer rebuilds its scene");
@@ -30,11 +38,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                      std::to_string(fo.consistency_hits) + " hits of " + std::to_string(fo.consistency_checks) +
                          " checks: must be at most --consistency-checks");
   check_epipolar_search_input(fo.epipolar_search, "--epipolar-search-range");
-  try {
-    check_affine_realign_options(fo.affine_realign);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("--affine-min-correlation", 0, "affine_realign", e.what());
-  }
+  check_affine_realign_input(fo.affine_realign);
   if (!(o.vio.score_min_distance_m <= o.vio.score_max_distance_m))  // also NaN
     throw InputError("--score-min-distance", 0, "score_min_distance_m",
                      "the scored distance range [" + std::to_string(o.vio.score_min_distance_m) + ", " +

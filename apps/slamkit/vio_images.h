@@ -29,6 +29,8 @@ struct VioImageCliOptions {
 /// The epipolar re-search options as the CLI got them: InputError naming `option` (before any
 /// work) where check_epipolar_search_options would throw later.
 void check_epipolar_search_input(const EpipolarSearchOptions& o, const char* option);
+/// The same for the affine re-alignment's options (InputError naming --affine-realign).
+void check_affine_realign_input(const AffineRealignOptions& o);
 
 VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log);
 

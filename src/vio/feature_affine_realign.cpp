@@ -1,6 +1,7 @@
 // Affine re-alignment of the dynamic-flagged features (see the header). OpenCV's ECC does the
 // alignment; this file cuts the patches and judges the result.
 #include "slamkit/vio/feature_affine_realign.h"
+#include "opencv_gray.h"
 
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -11,12 +12,6 @@
 namespace slamkit {
 
 namespace {
-
-cv::Mat wrap(const GrayImage& image) {  // no copy; OpenCV only reads it
-  return cv::Mat(image.height, image.width, CV_8UC1, const_cast<std::uint8_t*>(image.pixels.data()));
-}
-
-bool valid(const GrayImage& g) { return !g.empty() && g.pixels.size() == std::size_t(g.width) * g.height; }
 
 bool inside(const Eigen::Vector2d& p, int half, const GrayImage& g) {
   return p.allFinite() && p.x() >= half && p.y() >= half && p.x() <= g.width - 1 - half && p.y() <= g.height - 1 - half;

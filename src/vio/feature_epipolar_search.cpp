@@ -1,6 +1,7 @@
 // Epipolar re-search of the dynamic-flagged features (see the header). OpenCV's KLT does the
 // search; this file only places the seeds on the line and judges the candidates.
 #include "slamkit/vio/feature_epipolar_search.h"
+#include "opencv_gray.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,12 +15,6 @@
 namespace slamkit {
 
 namespace {
-
-cv::Mat wrap(const GrayImage& image) {  // no copy; OpenCV only reads it
-  return cv::Mat(image.height, image.width, CV_8UC1, const_cast<std::uint8_t*>(image.pixels.data()));
-}
-
-bool valid(const GrayImage& g) { return !g.empty() && g.pixels.size() == std::size_t(g.width) * g.height; }
 
 // The best offset along the line of raw1's patch in `after` (1-D scan, see the header): the patch
 // about raw1 and a strip about the foot, both in the line's frame (u along it, n across), correlated

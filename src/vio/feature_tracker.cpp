@@ -1,6 +1,7 @@
 // Shi-Tomasi detection + sub-pixel refinement + pyramidal KLT with a forward-backward check
 // (see the header). OpenCV stays inside this file.
 #include "slamkit/vio/feature_tracker.h"
+#include "opencv_gray.h"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -17,10 +18,6 @@
 namespace slamkit {
 
 namespace {
-
-cv::Mat wrap(const GrayImage& image) {  // no copy; OpenCV only reads it
-  return cv::Mat(image.height, image.width, CV_8UC1, const_cast<std::uint8_t*>(image.pixels.data()));
-}
 
 void check_image(const GrayImage& image, const char* what) {
   if (image.empty() || image.pixels.size() != std::size_t(image.width) * image.height)

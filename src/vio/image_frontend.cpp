@@ -105,23 +105,29 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
       for (int j = 0; j + 1 < b && R; ++j) R = rotations_[j] ? std::optional<Eigen::Matrix3d>(*R * *rotations_[j]) : std::nullopt;
     }
     Classification c = filter.classify(p1, p2, options_.trusted_model ? &trusted : nullptr, R ? &*R : nullptr);
-    if (options_.epipolar_search.enabled && b <= static_cast<int>(frames_.size())) {
-      std::vector<char> tested(index.size());  // only the features whose flag this test sets
-      for (std::size_t m = 0; m < index.size(); ++m) tested[m] = baseline[index[m]] == b;
+    std::vector<char> tested(index.size());  // only the features whose flag this test sets
+    for (std::size_t m = 0; m < index.size(); ++m) tested[m] = baseline[index[m]] == b;
+    // Matches whose pixel in frame t a second look moved: their tracks continue from there.
+    const auto take_moved = [&](const std::vector<char>& moved_now) {
+      for (std::size_t m = 0; m < index.size(); ++m)
+        if (moved_now[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
+    };
+    const bool have_frame = b <= static_cast<int>(frames_.size());
+    if (options_.epipolar_search.enabled && have_frame) {
       const EpipolarSearchResult s =
           search_along_epipolar(frames_[b - 1], frame, p1, &p2, filter, &c, options_.epipolar_search, &tested);
-      for (std::size_t m = 0; m < index.size(); ++m)
-        if (s.refound[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
+      take_moved(s.refound);
       out.n_refound_epipolar += s.refound_count;
     }
-    if (options_.affine_realign.enabled && b <= static_cast<int>(frames_.size())) {
-      std::vector<char> tested(index.size());
-      for (std::size_t m = 0; m < index.size(); ++m) tested[m] = baseline[index[m]] == b;
+    const auto realign = [&](Classification* model, const std::vector<char>& consider) {
       const AffineRealignResult a =
-          realign_affine(frames_[b - 1], frame, p1, &p2, filter, &c, options_.affine_realign, &tested);
-      for (std::size_t m = 0; m < index.size(); ++m)
-        if (a.realigned[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
+          realign_affine(frames_[b - 1], frame, p1, &p2, filter, model, options_.affine_realign, &consider);
+      take_moved(a.realigned);
       out.n_realigned_affine += a.realigned_count, out.n_unflagged_affine += a.unflagged_count;
+      return a;
+    };
+    if (options_.affine_realign.enabled && have_frame) {
+      const AffineRealignResult a = realign(&c, tested);
       // A better model: the camera's motion fitted again on the trusted tracks plus those the
       // re-alignment turned static, and the features it flags re-aligned in turn.
       if (options_.affine_realign.refit_model && options_.trusted_model && a.unflagged_count > 0) {
@@ -139,11 +145,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
         if (refit.status == ClassificationStatus::kEpipolar && trusted_static(refit) >= trusted_static(c)) {
           std::vector<char> again(index.size());
           for (std::size_t m = 0; m < index.size(); ++m) again[m] = tested[m] && !a.realigned[m];
-          const AffineRealignResult a2 =
-              realign_affine(frames_[b - 1], frame, p1, &p2, filter, &refit, options_.affine_realign, &again);
-          for (std::size_t m = 0; m < index.size(); ++m)
-            if (a2.realigned[m]) uv_now[index[m]] = p2[m], refound[index[m]] = 1, moved = true;
-          out.n_realigned_affine += a2.realigned_count, out.n_unflagged_affine += a2.unflagged_count;
+          realign(&refit, again);
           ++out.n_refits_affine;
           c = std::move(refit);
         }
