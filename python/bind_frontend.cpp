@@ -50,9 +50,10 @@ struct FrontendFrame {
   py::array_t<double> uv;
   py::array_t<std::int8_t> motion;  ///< 0 unknown, 1 static, 2 dynamic (FeatureMotion)
   py::array_t<int> baseline;
+  py::array_t<bool> isolated;  ///< dynamic flags without a flagged neighbour (not counted in n_dynamic)
   double static_ratio = 1.0, tracking_ms = 0.0, classification_ms = 0.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0, tracked = 0, detected = 0;
-  int n_realigned_affine = 0, n_unflagged_affine = 0;
+  int n_realigned_affine = 0, n_unflagged_affine = 0, n_isolated = 0;
   std::string status, motion_model;
   bool gyro_seeded = false;
 };
@@ -64,6 +65,8 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.uv = py::array_t<double>({n, py::ssize_t{2}});
   f.motion = py::array_t<std::int8_t>(n);
   f.baseline = py::array_t<int>(n);
+  f.isolated = py::array_t<bool>(n);
+  auto isolated = f.isolated.mutable_unchecked<1>();
   auto ids = f.ids.mutable_unchecked<1>();
   auto uv = f.uv.mutable_unchecked<2>();
   auto motion = f.motion.mutable_unchecked<1>();
@@ -71,7 +74,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   for (py::ssize_t i = 0; i < n; ++i) {
     const FrontendFeature& ft = r.features[static_cast<std::size_t>(i)];
     ids(i) = ft.id, uv(i, 0) = ft.uv.x(), uv(i, 1) = ft.uv.y();
-    motion(i) = static_cast<std::int8_t>(ft.motion), baseline(i) = ft.baseline;
+    motion(i) = static_cast<std::int8_t>(ft.motion), baseline(i) = ft.baseline, isolated(i) = ft.isolated;
   }
   f.static_ratio = r.static_ratio, f.tracking_ms = r.tracking_ms, f.classification_ms = r.classification_ms;
   f.n_static = r.n_static, f.n_dynamic = r.n_dynamic, f.n_unknown = r.n_unknown;
@@ -80,6 +83,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.motion_model = to_string(r.motion_model);
   f.gyro_seeded = r.tracking.gyro_seeded;
   f.n_realigned_affine = r.n_realigned_affine, f.n_unflagged_affine = r.n_unflagged_affine;
+  f.n_isolated = r.n_isolated;
   return f;
 }
 
@@ -111,6 +115,13 @@ void field(py::class_<ImageFrontendOptions>& c, const char* name, T AffineRealig
       [member](ImageFrontendOptions& o, T v) { o.affine_realign.*member = v; }, doc);
 }
 
+template <class T>
+void field(py::class_<ImageFrontendOptions>& c, const char* name, T DynamicGroupOptions::*member, const char* doc) {
+  c.def_property(
+      name, [member](const ImageFrontendOptions& o) { return o.groups.*member; },
+      [member](ImageFrontendOptions& o, T v) { o.groups.*member = v; }, doc);
+}
+
 // A tracker option that is an enum, exposed by its name (ValueError on an unknown one).
 template <class E>
 void named_field(py::class_<ImageFrontendOptions>& c, const char* name, E FeatureTrackerOptions::*member,
@@ -134,7 +145,7 @@ const std::vector<const char*> kOptionFields = {
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc", "affine_realign",
-    "affine_min_correlation", "affine_refit_model"};
+    "affine_min_correlation", "affine_refit_model", "group_min_support", "group_radius_factor"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -192,6 +203,10 @@ void init_frontend(py::module_& m) {
         "affine_realign: the alignment's normalized correlation must reach this");
   field(opt, "affine_refit_model", &AffineRealignOptions::refit_model,
         "affine_realign: fit the camera's motion again when features turn static, and re-align what it flags");
+  field(opt, "group_min_support", &DynamicGroupOptions::min_support,
+        "a dynamic flag stands only with at least this many other flags near it (0: off)");
+  field(opt, "group_radius_factor", &DynamicGroupOptions::radius_factor,
+        "the group rule's neighbourhood, in multiples of min_distance_px");
   named_field(opt, "gyro_klt", &FeatureTrackerOptions::gyro_klt, gyro_klt_name, parse_gyro_klt,
               "KLT seeded by the rotation given to process(): 'off', 'seed' ('on') or 'candidate'");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")
@@ -210,7 +225,9 @@ void init_frontend(py::module_& m) {
       .def_readonly("uv", &FrontendFrame::uv)
       .def_readonly("motion", &FrontendFrame::motion)
       .def_readonly("baseline", &FrontendFrame::baseline)
-      .def_readonly("static_ratio", &FrontendFrame::static_ratio, "M = static / (static + dynamic)")
+      .def_readonly("isolated", &FrontendFrame::isolated,
+                    "per feature: a dynamic flag (motion 2) without a flagged neighbour; not counted in n_dynamic")
+      .def_readonly("static_ratio", &FrontendFrame::static_ratio, "M = static / (static + dynamic + isolated)")
       .def_readonly("n_static", &FrontendFrame::n_static)
       .def_readonly("n_dynamic", &FrontendFrame::n_dynamic)
       .def_readonly("n_unknown", &FrontendFrame::n_unknown)
@@ -223,6 +240,8 @@ void init_frontend(py::module_& m) {
       .def_readonly("n_realigned_affine", &FrontendFrame::n_realigned_affine,
                     "dynamic-flagged features moved by the affine re-alignment (affine_realign)")
       .def_readonly("n_unflagged_affine", &FrontendFrame::n_unflagged_affine, "of those, the ones that turned static")
+      .def_readonly("n_isolated", &FrontendFrame::n_isolated,
+                    "dynamic flags without another flag within the group radius (not counted in n_dynamic)")
       .def_readonly("tracking_ms", &FrontendFrame::tracking_ms)
       .def_readonly("classification_ms", &FrontendFrame::classification_ms)
       .def("__repr__", [](const FrontendFrame& f) {

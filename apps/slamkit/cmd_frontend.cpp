@@ -18,6 +18,7 @@
 #include "vio_images.h"
 #include "slamkit/io/kalibr_calibration.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
+#include "slamkit/vio/dynamic_groups.h"
 #include "slamkit/vio/feature_affine_realign.h"
 #include "slamkit/vio/feature_epipolar_search.h"
 #include "slamkit/vio/feature_tracker.h"
@@ -34,6 +35,7 @@ struct FrontendCliOptions {
   DynamicFilterOptions filter;
   EpipolarSearchOptions search;
   AffineRealignOptions realign;
+  DynamicGroupOptions groups;
   int max_frames = 0;  // 0: all
   bool no_images = false, quiet = false;
 };
@@ -67,7 +69,8 @@ void run_frontend(const FrontendCliOptions& o) {
   const int report_every = std::max(1, total / 20);
   nlohmann::json frames = nlohmann::json::array();
   std::map<std::string, int> status_count;
-  long all_static = 0, all_dynamic = 0, all_unknown = 0, all_refound = 0, all_realigned = 0, all_unflagged = 0;
+  long all_static = 0, all_dynamic = 0, all_unknown = 0, all_refound = 0, all_realigned = 0, all_unflagged = 0,
+       all_isolated = 0;
   double sum_ms = 0.0, max_ms = 0.0, sum_M = 0.0, min_M = std::numeric_limits<double>::infinity();
   int classified_frames = 0, too_few_frames = 0;
   GrayImage gray, prev_gray;
@@ -109,6 +112,11 @@ void run_frontend(const FrontendCliOptions& o) {
       relocate(a.realigned);
       realigned = a.realigned_count, unflagged = a.unflagged_count;
     }
+    // Dynamic groups: a flag with no other flag near it is isolated, not a moving object (dynamic_groups.h).
+    std::vector<char> isolated_flags;
+    const int isolated =
+        mark_isolated_flags(cur, c.flags, o.groups, o.groups.radius_factor * o.tracker.min_distance_px, &isolated_flags);
+    const int dynamic = c.n_dynamic - isolated;
     if (o.search.enabled || o.realign.enabled) prev_gray = gray;
     const double ms = clock.seconds() * 1e3;
     // Flags per feature: the tracked ones come first in t.features, in the order of the matches.
@@ -118,8 +126,8 @@ void run_frontend(const FrontendCliOptions& o) {
     if (has_matches) {
       sum_ms += ms, max_ms = std::max(max_ms, ms);
       ++status_count[to_string(c.status)];
-      all_static += c.n_static, all_dynamic += c.n_dynamic, all_unknown += c.n_unknown, all_refound += refound;
-      all_realigned += realigned, all_unflagged += unflagged;
+      all_static += c.n_static, all_dynamic += dynamic, all_unknown += c.n_unknown, all_refound += refound;
+      all_realigned += realigned, all_unflagged += unflagged, all_isolated += isolated;
       if (c.n_static + c.n_dynamic > 0) sum_M += c.static_ratio, min_M = std::min(min_M, c.static_ratio), ++classified_frames;
       if (c.status == ClassificationStatus::kTooFewMatches) {
         ++too_few_frames;
@@ -133,11 +141,12 @@ void run_frontend(const FrontendCliOptions& o) {
                       {"lost_forward_backward", t.lost_forward_backward}, {"lost_border", t.lost_border},
                       {"lost_appearance", t.lost_appearance}, {"refound_epipolar", refound},
                       {"realigned_affine", realigned}, {"unflagged_affine", unflagged},
-                      {"static", c.n_static}, {"dynamic", c.n_dynamic}, {"unknown", has_matches ? c.n_unknown : 0},
+                      {"static", c.n_static}, {"dynamic", dynamic}, {"isolated", isolated},
+                      {"unknown", has_matches ? c.n_unknown : 0},
                       {"static_ratio", c.static_ratio}, {"status", has_matches ? to_string(c.status) : "first_frame"},
                       {"median_flow_px", c.median_flow_px}, {"time_ms", ms}});
     if (!o.no_images || source.is_video()) {
-      draw_features(&color, t.features, flags);
+      draw_features(&color, t.features, flags, &isolated_flags);
       if (!o.no_images) {
         char name[64];
         std::snprintf(name, sizeof name, "%05d_", k);
@@ -159,7 +168,7 @@ void run_frontend(const FrontendCliOptions& o) {
     }
   }
   const int pairs = std::max(0, k - 1);
-  const long classified = all_static + all_dynamic;
+  const long classified = all_static + all_dynamic + all_isolated;
   nlohmann::json j;
   j["kind"] = "frontend";
   j["slamkit_version"] = SLAMKIT_VERSION;
@@ -175,6 +184,7 @@ void run_frontend(const FrontendCliOptions& o) {
                   {"static_camera_flow_px", o.filter.static_camera_flow_px},
                   {"epipolar_search", o.search.enabled}, {"search_range_px", o.search.search_half_px},
                   {"affine_realign", o.realign.enabled}, {"affine_min_correlation", o.realign.min_correlation},
+                  {"group_min_support", o.groups.min_support}, {"group_radius_px", o.groups.radius_factor * o.tracker.min_distance_px},
                   {"search_ncc_drop", o.search.max_ncc_drop}, {"search_scan_px", o.search.line_scan_half_px}, {"search_min_ncc", o.search.min_ncc}};
   j["frames"] = k;
   j["static_ratio"] = {{"mean", classified_frames ? sum_M / classified_frames : 1.0},
@@ -185,17 +195,20 @@ void run_frontend(const FrontendCliOptions& o) {
   j["features_refound_epipolar"] = all_refound;
   j["features_realigned_affine"] = all_realigned;
   j["features_unflagged_affine"] = all_unflagged;
+  j["features_isolated"] = all_isolated;
   j["share_dynamic"] = classified ? double(all_dynamic) / classified : 0.0;
+  j["share_flagged"] = classified ? double(all_dynamic + all_isolated) / classified : 0.0;  // incl. isolated
   j["frames_too_few_matches"] = too_few_frames;
   j["classification_status"] = status_count;
   j["time_per_frame_ms"] = {{"mean", pairs ? sum_ms / pairs : 0.0}, {"max", max_ms}};
   j["per_frame"] = frames;
-  char line[240];
+  char line[320];
   std::snprintf(line, sizeof line,
-                "%d frames: M mean %.3f min %.3f, %.2f%% of %ld classified features dynamic, %d frame(s) with too few "
+                "%d frames: M mean %.3f min %.3f, %.2f%% of %ld classified features dynamic (%ld isolated flags apart), %d "
+                "frame(s) with too few "
                 "matches, %.2f ms/frame (max %.2f)\n",
                 k, j["static_ratio"]["mean"].get<double>(), j["static_ratio"]["min"].get<double>(),
-                100.0 * j["share_dynamic"].get<double>(), classified, too_few_frames, j["time_per_frame_ms"]["mean"].get<double>(),
+                100.0 * j["share_dynamic"].get<double>(), classified, all_isolated, too_few_frames, j["time_per_frame_ms"]["mean"].get<double>(),
                 max_ms);
   log << line;
   if (!o.json.empty()) write_json(o.json, j);
@@ -257,6 +270,12 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--affine-min-correlation", o->realign.min_correlation,
                   "with --affine-realign: the alignment's normalized correlation must reach this")
       ->check(cli::FiniteRange(-1.0, 1.0))->capture_default_str();
+  sub->add_option("--group-support", o->groups.min_support,
+                  "a dynamic flag stands only with at least this many other flags near it (0: off)")
+      ->check(CLI::Range(0, 1000))->capture_default_str();
+  sub->add_option("--group-radius", o->groups.radius_factor,
+                  "the group rule's neighbourhood, in multiples of --min-distance")
+      ->check(cli::FiniteRange(0.0, 100.0, true))->capture_default_str();
   sub->add_option("--epipolar-search", o->search.enabled,
                   "re-search each dynamic-flagged feature along its epipolar line (KLT from seeds on the line); "
                   "re-found with a patch as good as its track's: static")->capture_default_str();

@@ -67,7 +67,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
   if (!o.feature_log.empty()) {
     feature_log.open(o.feature_log);
     if (!feature_log) throw InputError(o.feature_log, 0, "feature_log", "cannot write the file");
-    feature_log << "frame,id,u,v,u_then,v_then,baseline,motion,distance_px,distance_1_px,hits,checks,truth,object_distance_m,scene_range_m\n";
+    feature_log << "frame,id,u,v,u_then,v_then,baseline,motion,distance_px,distance_1_px,hits,checks,truth,object_distance_m,scene_range_m,isolated\n";
     feature_log.precision(9);
     // scene_range_m: the true range of the ray through the feature at frame k (the renderer's nearest hit).
     vo.on_scored = [&feature_log, &sim, &renderer](std::size_t k, const FrontendFeature& f, int truth, double d) {
@@ -75,7 +75,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
       const RayHit hit = renderer.cast(frame.t, frame_camera_pose(sim, frame), f.uv);
       feature_log << k << ',' << f.id << ',' << f.uv.x() << ',' << f.uv.y() << ',' << f.uv_then.x() << ',' << f.uv_then.y()
                   << ',' << f.baseline << ',' << to_string(f.motion) << ',' << f.distance_px << ',' << f.distance_1_px << ',' << f.hits << ','
-                  << f.checks << ',' << truth << ',' << d << ',' << (hit.hit ? hit.distance : std::nan("")) << '\n';
+                  << f.checks << ',' << truth << ',' << d << ',' << (hit.hit ? hit.distance : std::nan("")) << ',' << (f.isolated ? 1 : 0) << '\n';
     };
   }
   VisualInertialSim tracked = track_images(sim, source, walker_speeds(scene), walker_distances(scene, sim), vo, &report,
@@ -138,6 +138,9 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"refits_affine", report.refits_affine},
                {"realigned_affine", report.realigned_affine},
                {"unflagged_affine", report.unflagged_affine},
+               {"group_min_support", o.vio.frontend.groups.min_support},
+               {"group_radius_px", o.vio.frontend.groups.radius_factor * o.vio.frontend.tracker.min_distance_px},
+               {"isolated_flags", report.isolated_flags},
                {"frames_too_few_matches", report.frames_too_few_matches},
                {"frames_no_fundamental", report.frames_no_fundamental},
                {"frames_static_camera", report.frames_static_camera},

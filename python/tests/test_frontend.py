@@ -58,7 +58,7 @@ def test_real_pair_tracks_and_classifies_deterministically():
         runs.append(f.process(b))
     r = runs[0]
     assert r.status == "epipolar" and r.tracked > 100 and r.uv.shape == (r.ids.size, 2)
-    assert r.n_static + r.n_dynamic + r.n_unknown == r.ids.size
+    assert r.n_static + r.n_dynamic + r.n_isolated + r.n_unknown == r.ids.size
     assert 0.8 < r.static_ratio < 1.0 and r.n_dynamic > 0  # the whale and the wheel move
     np.testing.assert_array_equal(r.motion, runs[1].motion)
     np.testing.assert_array_equal(r.uv, runs[1].uv)
@@ -180,7 +180,8 @@ def test_affine_realign_counts_on_a_real_pair():
     a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
     frames = {}
     for mode in ("off", "on", "refit"):
-        f = sk.ImageFrontend(baseline_frames=1, affine_realign=mode != "off", affine_refit_model=mode == "refit")
+        f = sk.ImageFrontend(baseline_frames=1, affine_realign=mode != "off", affine_refit_model=mode == "refit",
+                             group_min_support=0)
         f.process(a)
         frames[mode] = f.process(b)
     off, on, refit = frames["off"], frames["on"], frames["refit"]
@@ -189,6 +190,42 @@ def test_affine_realign_counts_on_a_real_pair():
     assert on.n_dynamic == off.n_dynamic - on.n_unflagged_affine  # the same tracks and model; only flagged ones move
     assert refit.n_dynamic <= off.n_dynamic  # the refitted model (the default) may unflag more
     assert on.n_dynamic > 10 and refit.n_dynamic > 10  # the players still move
+
+
+def test_group_rule_options():
+    o = sk.FrontendOptions()
+    assert o.group_min_support == 1 and o.group_radius_factor == 2.0  # on by default since session 36
+    o = sk.FrontendOptions(group_min_support=2, group_radius_factor=3.0)
+    f = sk.ImageFrontend(o).options
+    assert (f.group_min_support, f.group_radius_factor) == (2, 3.0)
+    assert "group_min_support=2" in repr(o)
+    with pytest.raises(ValueError, match="min_support"):
+        sk.ImageFrontend(group_min_support=-1)
+    with pytest.raises(ValueError, match="radius_factor"):
+        sk.ImageFrontend(group_radius_factor=float("nan"))
+
+
+def test_group_rule_marks_isolated_flags_on_a_real_pair():
+    require_data("vio/dynamic_video")
+    d = data_root() / "vio" / "dynamic_video"
+    a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+    frames = {}
+    for support in (0, 1):
+        f = sk.ImageFrontend(baseline_frames=1, group_min_support=support)
+        f.process(a)
+        frames[support] = f.process(b)
+    off, on = frames[0], frames[1]
+    assert off.n_isolated == 0 and on.n_isolated >= 1
+    # The same tracks and tests: the isolated flags keep their motion (2) but leave n_dynamic.
+    assert (on.motion == off.motion).all() and on.n_static == off.n_static
+    assert on.n_dynamic == off.n_dynamic - on.n_isolated and int(on.isolated.sum()) == on.n_isolated
+    assert not off.isolated.any() and (on.motion[on.isolated] == 2).all()
+    classified = on.n_static + on.n_dynamic + on.n_isolated
+    assert abs(on.static_ratio - on.n_static / classified) < 1e-12  # M as before: isolated flags are not static
+    # Every flag left has another one within 2 x 30 px.
+    uv = on.uv[(on.motion == 2) & ~on.isolated]
+    for p in uv:
+        assert (((uv - p) ** 2).sum(axis=1) <= 60.0 ** 2).sum() >= 2
 
 
 CAMCHAIN = """cam0:

@@ -44,6 +44,7 @@ FrontendRunData frontend_run_from_json(const json& j, const std::string& label, 
   d.static_ratio_mean = number(j.at("static_ratio"), "mean", source, "static_ratio.mean");
   d.static_ratio_min = number(j.at("static_ratio"), "min", source, "static_ratio.min");
   d.share_dynamic = optional(j, "share_dynamic", source, "share_dynamic");
+  d.share_flagged = optional(j, "share_flagged", source, "share_flagged");
   d.precision = optional(j, "dynamic_precision", source, "dynamic_precision");
   d.recall = optional(j, "dynamic_recall", source, "dynamic_recall");
   if (j.contains("time_per_frame_ms") && j.at("time_per_frame_ms").is_object())
@@ -60,11 +61,12 @@ FrontendRunData frontend_run_from_json(const json& j, const std::string& label, 
 std::string frontend_report_section(const std::vector<FrontendRunData>& runs) {
   std::string h = "<section id=\"frontend\">\n<h2>DVI front end</h2>\n";
   h += "<p class=\"meta\">Features tracked by KLT and classified by the epipolar test (docs/frontend.md): "
-       "M = static / classified features of a frame; precision and recall of \"dynamic\" against the rendered "
+       "M = static / classified features of a frame; the dynamic share counts the flags in groups, the flagged "
+       "share also the isolated ones (a flag with no other near it: no moving object claimed); precision and recall of \"dynamic\" against the rendered "
        "pixel labels where the run has them; time of tracking + classification per frame, image time "
        "(rendering or reading) apart.</p>\n";
   h += report_html::table_head({{"run", true}, {"input", true}, {"frames"}, {"M mean"}, {"M min"},
-                                {"dynamic share [%]"}, {"precision"}, {"recall"}, {"frames &lt; 8 matches"},
+                                {"dynamic share [%]"}, {"flagged share [%]"}, {"precision"}, {"recall"}, {"frames &lt; 8 matches"},
                                 {"front end [ms/frame]"}, {"images [ms/frame]"}});
   using report_html::number_cell;
   for (std::size_t k = 0; k < runs.size(); ++k) {
@@ -73,7 +75,7 @@ std::string frontend_report_section(const std::vector<FrontendRunData>& runs) {
         k, r.label,
         {report_html::text_cell(r.input), number_cell(std::to_string(r.frames)), number_cell(fmt(r.static_ratio_mean, 3)),
          number_cell(fmt(r.static_ratio_min, 3)), number_cell(fmt(r.share_dynamic, 1, 100.0)),
-         number_cell(fmt(r.precision, 3)), number_cell(fmt(r.recall, 3)),
+         number_cell(fmt(r.share_flagged, 1, 100.0)),         number_cell(fmt(r.precision, 3)), number_cell(fmt(r.recall, 3)),
          number_cell(r.too_few_matches ? std::to_string(*r.too_few_matches) : "–"), number_cell(fmt(r.time_ms, 1)),
          number_cell(fmt(r.image_ms, 1))});
   }

@@ -155,12 +155,15 @@ GrayImage read_gray_image(const std::string& path) {
   return to_gray(m);
 }
 
-void draw_features(ColorImage* image, const std::vector<TrackedFeature>& features, const std::vector<FeatureMotion>& flags) {
+void draw_features(ColorImage* image, const std::vector<TrackedFeature>& features, const std::vector<FeatureMotion>& flags,
+                   const std::vector<char>* isolated) {
   cv::Mat m(image->height, image->width, CV_8UC3, image->pixels.data());
   const int r = std::max(3, std::min(image->width, image->height) / 120);
   for (std::size_t i = 0; i < features.size(); ++i) {
     const FeatureMotion f = i < flags.size() ? flags[i] : FeatureMotion::kUnknown;
+    const bool alone = isolated && i < isolated->size() && (*isolated)[i];
     const cv::Scalar colour = f == FeatureMotion::kStatic    ? cv::Scalar(0, 220, 0)
+                              : alone                        ? cv::Scalar(0, 128, 255)
                               : f == FeatureMotion::kDynamic ? cv::Scalar(0, 0, 255)
                                                              : cv::Scalar(0, 230, 255);
     const cv::Point p(int(std::lround(features[i].uv.x())), int(std::lround(features[i].uv.y())));

@@ -38,6 +38,7 @@ ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const
     throw std::invalid_argument("ImageFrontend: consistency_hits must be in 1..consistency_checks");
   check_epipolar_search_options(options_.epipolar_search);
   check_affine_realign_options(options_.affine_realign);
+  check_dynamic_group_options(options_.groups);
 }
 
 FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int hits, bool was_dynamic) {
@@ -240,13 +241,25 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     tests.emplace(f.id, h);
     if (options_.sticky_dynamic && flagged_dynamic_.count(f.id)) f.motion = FeatureMotion::kDynamic;
     if (f.motion == FeatureMotion::kDynamic) still.insert(f.id);
-    if (f.motion == FeatureMotion::kStatic) ++out.n_static;
-    else if (f.motion == FeatureMotion::kDynamic) ++out.n_dynamic;
-    else ++out.n_unknown;
   }
   flagged_dynamic_.swap(still);
   tests_.swap(tests);
-  const int classified = out.n_static + out.n_dynamic;
+  // Dynamic groups: a flag with no flagged neighbour is isolated (the test histories keep their tests).
+  if (options_.groups.min_support > 0) {
+    std::vector<Eigen::Vector2d> uv(out.features.size());
+    std::vector<FeatureMotion> flags(out.features.size());
+    for (std::size_t i = 0; i < out.features.size(); ++i) uv[i] = out.features[i].uv, flags[i] = out.features[i].motion;
+    std::vector<char> isolated;
+    out.n_isolated = mark_isolated_flags(uv, flags, options_.groups,
+                                         options_.groups.radius_factor * options_.tracker.min_distance_px, &isolated);
+    for (std::size_t i = 0; i < out.features.size(); ++i) out.features[i].isolated = isolated[i] != 0;
+  }
+  for (const FrontendFeature& f : out.features) {
+    if (f.motion == FeatureMotion::kStatic) ++out.n_static;
+    else if (f.motion == FeatureMotion::kDynamic) out.n_dynamic += f.isolated ? 0 : 1;
+    else ++out.n_unknown;
+  }
+  const int classified = out.n_static + out.n_dynamic + out.n_isolated;
   out.static_ratio = classified > 0 ? static_cast<double>(out.n_static) / classified : 1.0;
   // History: this frame becomes t − 1.
   std::unordered_map<std::int64_t, Eigen::Vector2d> now;

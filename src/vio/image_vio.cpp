@@ -184,14 +184,16 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       for (const FrontendFeature& x : f.features) {
         if (x.motion == FeatureMotion::kUnknown || x.baseline <= 0) continue;
         const LabelImage& now = label_history.front();
-        add_to_score(label_truth(now, x.uv, 0), x.motion, so, &r.score_centre);
+        // An isolated flag claims no moving object: scored as "not dynamic" (a miss on a mover).
+        const FeatureMotion claim = x.isolated ? FeatureMotion::kStatic : x.motion;
+        add_to_score(label_truth(now, x.uv, 0), claim, so, &r.score_centre);
         const LabelImage& then = label_history.at(std::min<std::size_t>(x.baseline, label_history.size() - 1));
         const int truth_now = label_truth(now, x.uv, so_patch.patch_half_size_px);
         const int truth = then.labels.empty() || static_cast<std::size_t>(x.baseline) >= label_history.size()
                               ? truth_now
                               : track_truth(label_truth(then, x.uv_then, so_patch.patch_half_size_px), truth_now);
-        add_to_score(truth, x.motion, so_patch, &r.score_all_distances);
-        add_to_score(truth, x.motion, so_range, &r.score);
+        add_to_score(truth, claim, so_patch, &r.score_all_distances);
+        add_to_score(truth, claim, so_range, &r.score);
         if (options.on_scored) {
           const auto d = truth > 0 ? so_range.label_distance_m.find(truth) : so_range.label_distance_m.end();
           options.on_scored(k, x, truth, d != so_range.label_distance_m.end() ? d->second : std::nan(""));
@@ -205,6 +207,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       r.frames_too_few_matches += f.status == ClassificationStatus::kTooFewMatches;
       r.realigned_affine += f.n_realigned_affine, r.unflagged_affine += f.n_unflagged_affine;
       r.refits_affine += f.n_refits_affine;
+      r.isolated_flags += f.n_isolated;
       r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
       r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
       if (f.status == ClassificationStatus::kEpipolar) {

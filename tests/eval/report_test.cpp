@@ -111,7 +111,7 @@ TEST(Report, SimulatedRunsGetTheirTable) {
 // `slamkit frontend --json` documents and the "frontend" object of `slamkit vio --images` runs.
 TEST(Report, FrontEndRunsGetTheirTable) {
   const nlohmann::json front = {{"kind", "frontend"}, {"input", "aloeL.jpg aloeR.jpg"}, {"camera", "none"}, {"frames", 2},
-                                {"static_ratio", {{"mean", 0.86}, {"min", 0.86}}}, {"share_dynamic", 0.14},
+                                {"static_ratio", {{"mean", 0.86}, {"min", 0.86}}}, {"share_dynamic", 0.14}, {"share_flagged", 0.205},
                                 {"frames_too_few_matches", 0}, {"time_per_frame_ms", {{"mean", 12.5}, {"max", 12.5}}}};
   nlohmann::json vio = eval_doc(MetricKind::kAte, "vio room1 images", 0.02);
   vio["frontend"] = {{"kind", "frontend"}, {"image_source", "rendered in memory"}, {"frames", 600},
@@ -123,6 +123,7 @@ TEST(Report, FrontEndRunsGetTheirTable) {
   EXPECT_EQ(count(h, "href=\"#frontend\""), 1);
   EXPECT_NE(h.find("2 front-end"), std::string::npos);
   EXPECT_NE(h.find("<td>14.0</td>"), std::string::npos);   // dynamic share [%]
+  EXPECT_NE(h.find("<td>20.5</td>"), std::string::npos);   // flagged share [%] (isolated flags too)
   EXPECT_NE(h.find("<td>0.912</td>"), std::string::npos);  // precision
   EXPECT_NE(h.find("<td>11.0</td>"), std::string::npos);   // tracking + classification
   EXPECT_NE(h.find("rendered in memory"), std::string::npos);

@@ -1,6 +1,6 @@
 // DVI front-end runs in `slamkit report` (docs/frontend.md): documents of kind "frontend"
 // (`slamkit frontend ... --json`: at least input, frames, static_ratio {mean, min}; optional
-// camera, share_dynamic, frames_too_few_matches, time_per_frame_ms {mean}) and the "frontend"
+// camera, share_dynamic, share_flagged, frames_too_few_matches, time_per_frame_ms {mean}) and the "frontend"
 // object that `slamkit vio --images --json` stores in its ATE document (frames, static_ratio,
 // dynamic_precision, dynamic_recall, tracking/classification/image ms per frame). One table:
 // how much of each run was flagged moving, how well against the pixel labels, and at what cost.
@@ -18,6 +18,7 @@ struct FrontendRunData {
   int frames = 0;
   double static_ratio_mean = 1.0, static_ratio_min = 1.0;
   std::optional<double> share_dynamic, precision, recall, time_ms, image_ms;
+  std::optional<double> share_flagged;  ///< dynamic and isolated flags / classified (since session 36)
   std::optional<long long> too_few_matches;
 };
 

@@ -3,7 +3,7 @@
 //                 (sorted by name; .png .jpg .jpeg .bmp .pgm .ppm .tif .tiff), or of a list of
 //                 image files (e.g. aloeL.jpg aloeR.jpg), as gray and colour images
 //   draw_features the features of a frame on its colour image: a circle per feature, green
-//                 (static), red (dynamic) or yellow (unknown), and its flow from the previous frame
+//                 (static), red (dynamic), orange (isolated flag) or yellow (unknown), and its flow
 //   write_png, VideoFileWriter (AVI, MJPG)
 // Every failure (unreadable file, frames of different sizes, unwritable output) throws
 // InputError naming the file.
@@ -42,7 +42,9 @@ class FrameSource {
 GrayImage read_gray_image(const std::string& path);
 
 /// Draws the features (flags: one per feature, or empty = all unknown) onto image.
-void draw_features(ColorImage* image, const std::vector<TrackedFeature>& features, const std::vector<FeatureMotion>& flags);
+/// isolated (optional, indexed like flags): isolated dynamic flags (dynamic_groups.h), drawn orange.
+void draw_features(ColorImage* image, const std::vector<TrackedFeature>& features, const std::vector<FeatureMotion>& flags,
+                   const std::vector<char>* isolated = nullptr);
 
 /// Writes a PNG; throws InputError if it cannot.
 void write_png(const std::string& path, const ColorImage& image);

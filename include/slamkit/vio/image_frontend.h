@@ -37,7 +37,9 @@
 // IMU-aided model (filter.known_rotation, session 28): process() may be given the camera's rotation
 // since the previous frame (e.g. from the gyroscope); a test over b frames is given the product of
 // the last b of them (none if one is missing) and fits only the translation direction.
-// M = static / (static + dynamic) over the features of the frame.
+// Dynamic groups (groups): a flag with no other flag near it is isolated (dynamic_groups.h): its
+// motion stays kDynamic (the estimator leaves it out) but it is not counted as dynamic.
+// M = static / (static + dynamic + isolated) over the classified features of the frame.
 #pragma once
 
 #include <Eigen/Core>
@@ -52,6 +54,7 @@
 
 #include "slamkit/geometry/camera_models.h"
 #include "slamkit/vio/dynamic_feature_filter.h"
+#include "slamkit/vio/dynamic_groups.h"
 #include "slamkit/vio/feature_affine_realign.h"
 #include "slamkit/vio/feature_epipolar_search.h"
 #include "slamkit/vio/feature_tracker.h"
@@ -99,6 +102,10 @@ struct ImageFrontendOptions {
   /// Before a test's dynamic flag counts, the feature's patch over that test's baseline is aligned
   /// by an affine warp (feature_affine_realign.h); the track moves to the aligned pixel.
   AffineRealignOptions affine_realign;
+  /// After the tests and the consistency rule, a dynamic flag with fewer than groups.min_support
+  /// other flags within groups.radius_factor × tracker.min_distance_px is isolated
+  /// (FrontendFeature::isolated, dynamic_groups.h); min_support = 0 disables it.
+  DynamicGroupOptions groups;
 };
 
 struct FrontendFeature {
@@ -111,6 +118,9 @@ struct FrontendFeature {
   /// The frame-to-frame test's distance (baseline 1) of every tracked feature, also of those
   /// classified on the long baseline; NaN if it did not run.
   double distance_1_px = std::numeric_limits<double>::quiet_NaN();
+  /// motion == kDynamic with no other flag within the group radius (ImageFrontendOptions::groups): an
+  /// unreliable track, not a moving object; left out of the estimator like a dynamic one.
+  bool isolated = false;
   int hits = 0;      ///< tests over the threshold among the track's last consistency_checks
   int checks = 0;    ///< tests kept (≤ consistency_checks)
 };
@@ -119,13 +129,14 @@ struct FrontendFrameResult {
   std::vector<FrontendFeature> features;
   TrackingResult tracking;  ///< counts of the tracker (its features are the same as above)
   double static_ratio = 1.0;
-  int n_static = 0, n_dynamic = 0, n_unknown = 0;
+  int n_static = 0, n_dynamic = 0, n_unknown = 0;  ///< n_dynamic: the flags in groups (not isolated)
   int n_rejected_appearance = 0;  ///< tracks rejected by the appearance check over the baseline
   int n_rejected_first_patch = 0;  ///< tracks rejected by the appearance check against their first frame
   int n_refound_epipolar = 0;     ///< dynamic flags withdrawn by the epipolar re-search
   int n_realigned_affine = 0;     ///< dynamic-flagged features moved by the affine re-alignment
   int n_unflagged_affine = 0;     ///< of those, the ones that turned static
   int n_refits_affine = 0;        ///< tests whose model was fitted again after the re-alignment
+  int n_isolated = 0;             ///< dynamic flags without a flagged neighbour (groups): not counted as dynamic
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
   MotionModel motion_model = MotionModel::kEstimated;  ///< of the longest baseline run this frame
