@@ -116,6 +116,10 @@ std::vector<GrayImage> synthetic_frames(int n) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 2 || (argc == 2 && argv[1][0] == '-')) {  // e.g. --help: not an output path
+    std::fprintf(stderr, "usage: frontend_bench [OUT.json]   (default bench/results/frontend.json)\n");
+    return 2;
+  }
   const std::string out = argc > 1 ? argv[1] : std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/frontend.json";
   const auto fisheye = make_camera_model(
       "equidistant", {190.978, 190.973, 254.932, 256.897, 0.00348239, 0.000715035, -0.00205324, 0.000202937}, 512, 512);
