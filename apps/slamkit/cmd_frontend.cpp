@@ -115,7 +115,7 @@ void run_frontend(const FrontendCliOptions& o) {
     // Dynamic groups: a flag with no other flag near it is isolated, not a moving object (dynamic_groups.h).
     std::vector<char> isolated_flags;
     const int isolated =
-        mark_isolated_flags(cur, c.flags, o.groups, o.groups.radius_factor * o.tracker.min_distance_px, &isolated_flags);
+        mark_isolated_flags(cur, c.flags, o.groups, o.groups.radius_px(o.tracker.min_distance_px), &isolated_flags);
     const int dynamic = c.n_dynamic - isolated;
     if (o.search.enabled || o.realign.enabled) prev_gray = gray;
     const double ms = clock.seconds() * 1e3;
@@ -184,7 +184,7 @@ void run_frontend(const FrontendCliOptions& o) {
                   {"static_camera_flow_px", o.filter.static_camera_flow_px},
                   {"epipolar_search", o.search.enabled}, {"search_range_px", o.search.search_half_px},
                   {"affine_realign", o.realign.enabled}, {"affine_min_correlation", o.realign.min_correlation},
-                  {"group_min_support", o.groups.min_support}, {"group_radius_px", o.groups.radius_factor * o.tracker.min_distance_px},
+                  {"group_min_support", o.groups.min_support}, {"group_radius_px", o.groups.radius_px(o.tracker.min_distance_px)},
                   {"search_ncc_drop", o.search.max_ncc_drop}, {"search_scan_px", o.search.line_scan_half_px}, {"search_min_ncc", o.search.min_ncc}};
   j["frames"] = k;
   j["static_ratio"] = {{"mean", classified_frames ? sum_M / classified_frames : 1.0},
@@ -270,12 +270,7 @@ void add_frontend_command(CLI::App& app) {
   sub->add_option("--affine-min-correlation", o->realign.min_correlation,
                   "with --affine-realign: the alignment's normalized correlation must reach this")
       ->check(cli::FiniteRange(-1.0, 1.0))->capture_default_str();
-  sub->add_option("--group-support", o->groups.min_support,
-                  "a dynamic flag stands only with at least this many other flags near it (0: off)")
-      ->check(CLI::Range(0, 1000))->capture_default_str();
-  sub->add_option("--group-radius", o->groups.radius_factor,
-                  "the group rule's neighbourhood, in multiples of --min-distance")
-      ->check(cli::FiniteRange(0.0, 100.0, true))->capture_default_str();
+  add_dynamic_group_options(sub, &o->groups, "");
   sub->add_option("--epipolar-search", o->search.enabled,
                   "re-search each dynamic-flagged feature along its epipolar line (KLT from seeds on the line); "
                   "re-found with a patch as good as its track's: static")->capture_default_str();

@@ -333,12 +333,7 @@ void add_vio_command(CLI::App& app) {
                   "with --images --affine-realign: a realigned feature turns static at most this fraction of the threshold "
                   "off its epipolar line")
       ->check(cli::FiniteRange(0.0, 1.0, true))->capture_default_str();
-  sub->add_option("--group-support", o->image.vio.frontend.groups.min_support,
-                  "with --images: a dynamic flag stands only with at least this many other flags near it (0: off)")
-      ->check(CLI::Range(0, 1000))->capture_default_str();
-  sub->add_option("--group-radius", o->image.vio.frontend.groups.radius_factor,
-                  "with --images: the group rule's neighbourhood, in multiples of the features' minimum distance")
-      ->check(cli::FiniteRange(0.0, 100.0, true))->capture_default_str();
+  add_dynamic_group_options(sub, &o->image.vio.frontend.groups, "with --images: ");
   sub->add_option("--score-min-distance", o->image.vio.score_min_distance_m,
                   "with --images: score only objects at least this far from the camera (m; issue 13: 2)")
       ->check(cli::NonNegativeNumber)->capture_default_str();

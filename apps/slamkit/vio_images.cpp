@@ -21,6 +21,15 @@ void check_epipolar_search_input(const EpipolarSearchOptions& o, const char* opt
   }
 }
 
+void add_dynamic_group_options(CLI::App* sub, DynamicGroupOptions* groups, const std::string& scope) {
+  sub->add_option("--group-support", groups->min_support,
+                  scope + "a dynamic flag stands only with at least this many other flags near it (0: off)")
+      ->check(CLI::Range(0, 1000))->capture_default_str();
+  sub->add_option("--group-radius", groups->radius_factor,
+                  scope + "the group rule's neighbourhood, in multiples of the detector's minimum feature distance (30 px)")
+      ->check(FiniteRange(0.0, 100.0, true))->capture_default_str();
+}
+
 void check_affine_realign_input(const AffineRealignOptions& o) {
   try {
     check_affine_realign_options(o);
@@ -139,7 +148,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"realigned_affine", report.realigned_affine},
                {"unflagged_affine", report.unflagged_affine},
                {"group_min_support", o.vio.frontend.groups.min_support},
-               {"group_radius_px", o.vio.frontend.groups.radius_factor * o.vio.frontend.tracker.min_distance_px},
+               {"group_radius_px", o.vio.frontend.groups.radius_px(o.vio.frontend.tracker.min_distance_px)},
                {"isolated_flags", report.isolated_flags},
                {"frames_too_few_matches", report.frames_too_few_matches},
                {"frames_no_fundamental", report.frames_no_fundamental},

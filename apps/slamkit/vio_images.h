@@ -5,6 +5,7 @@
 // (kind "frontend" keys: detection score against the pixel labels, M, timings) for `slamkit vio`.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
@@ -31,6 +32,10 @@ struct VioImageCliOptions {
 void check_epipolar_search_input(const EpipolarSearchOptions& o, const char* option);
 /// The same for the affine re-alignment's options (InputError naming --affine-realign).
 void check_affine_realign_input(const AffineRealignOptions& o);
+
+/// --group-support and --group-radius (the dynamic-group rule, vio/dynamic_groups.h) on `sub`;
+/// `scope` prefixes their help ("with --images: ").
+void add_dynamic_group_options(CLI::App* sub, DynamicGroupOptions* groups, const std::string& scope);
 
 VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* frontend, std::ostream& log);
 

@@ -62,9 +62,9 @@ std::string frontend_report_section(const std::vector<FrontendRunData>& runs) {
   std::string h = "<section id=\"frontend\">\n<h2>DVI front end</h2>\n";
   h += "<p class=\"meta\">Features tracked by KLT and classified by the epipolar test (docs/frontend.md): "
        "M = static / classified features of a frame; the dynamic share counts the flags in groups, the flagged "
-       "share also the isolated ones (a flag with no other near it: no moving object claimed); precision and recall of \"dynamic\" against the rendered "
-       "pixel labels where the run has them; time of tracking + classification per frame, image time "
-       "(rendering or reading) apart.</p>\n";
+       "share also the isolated ones (a flag with no other near it: no moving object claimed); precision and "
+       "recall of \"dynamic\" against the rendered pixel labels where the run has them; time of tracking + "
+       "classification per frame, image time (rendering or reading) apart.</p>\n";
   h += report_html::table_head({{"run", true}, {"input", true}, {"frames"}, {"M mean"}, {"M min"},
                                 {"dynamic share [%]"}, {"flagged share [%]"}, {"precision"}, {"recall"}, {"frames &lt; 8 matches"},
                                 {"front end [ms/frame]"}, {"images [ms/frame]"}});
@@ -75,7 +75,7 @@ std::string frontend_report_section(const std::vector<FrontendRunData>& runs) {
         k, r.label,
         {report_html::text_cell(r.input), number_cell(std::to_string(r.frames)), number_cell(fmt(r.static_ratio_mean, 3)),
          number_cell(fmt(r.static_ratio_min, 3)), number_cell(fmt(r.share_dynamic, 1, 100.0)),
-         number_cell(fmt(r.share_flagged, 1, 100.0)),         number_cell(fmt(r.precision, 3)), number_cell(fmt(r.recall, 3)),
+         number_cell(fmt(r.share_flagged, 1, 100.0)), number_cell(fmt(r.precision, 3)), number_cell(fmt(r.recall, 3)),
          number_cell(r.too_few_matches ? std::to_string(*r.too_few_matches) : "–"), number_cell(fmt(r.time_ms, 1)),
          number_cell(fmt(r.image_ms, 1))});
   }

@@ -245,15 +245,13 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   flagged_dynamic_.swap(still);
   tests_.swap(tests);
   // Dynamic groups: a flag with no flagged neighbour is isolated (the test histories keep their tests).
-  if (options_.groups.min_support > 0) {
-    std::vector<Eigen::Vector2d> uv(out.features.size());
-    std::vector<FeatureMotion> flags(out.features.size());
-    for (std::size_t i = 0; i < out.features.size(); ++i) uv[i] = out.features[i].uv, flags[i] = out.features[i].motion;
-    std::vector<char> isolated;
-    out.n_isolated = mark_isolated_flags(uv, flags, options_.groups,
-                                         options_.groups.radius_factor * options_.tracker.min_distance_px, &isolated);
-    for (std::size_t i = 0; i < out.features.size(); ++i) out.features[i].isolated = isolated[i] != 0;
-  }
+  std::vector<Eigen::Vector2d> uv(out.features.size());
+  std::vector<FeatureMotion> flags(out.features.size());
+  for (std::size_t i = 0; i < out.features.size(); ++i) uv[i] = out.features[i].uv, flags[i] = out.features[i].motion;
+  std::vector<char> isolated;
+  out.n_isolated =
+      mark_isolated_flags(uv, flags, options_.groups, options_.groups.radius_px(options_.tracker.min_distance_px), &isolated);
+  for (std::size_t i = 0; i < out.features.size(); ++i) out.features[i].isolated = isolated[i] != 0;
   for (const FrontendFeature& f : out.features) {
     if (f.motion == FeatureMotion::kStatic) ++out.n_static;
     else if (f.motion == FeatureMotion::kDynamic) out.n_dynamic += f.isolated ? 0 : 1;

@@ -26,6 +26,8 @@ struct DynamicGroupOptions {
   /// The neighbourhood, as a multiple of the detector's minimum distance between features
   /// (FeatureTrackerOptions::min_distance_px): 2 × 30 px = 60 px by default.
   double radius_factor = 2.0;
+  /// The neighbourhood in pixels for a detector keeping features min_distance_px apart.
+  double radius_px(double min_distance_px) const { return radius_factor * min_distance_px; }
 };
 
 /// Throws std::invalid_argument on min_support < 0 or a radius factor that is not finite and > 0.
