@@ -53,7 +53,7 @@ struct FrontendFrame {
   py::array_t<bool> isolated;  ///< dynamic flags without a flagged neighbour (not counted in n_dynamic)
   double static_ratio = 1.0, tracking_ms = 0.0, classification_ms = 0.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0, tracked = 0, detected = 0;
-  int n_realigned_affine = 0, n_unflagged_affine = 0, n_isolated = 0;
+  int n_realigned_affine = 0, n_unflagged_affine = 0, n_isolated = 0, n_contests_lost = 0;
   std::string status, motion_model;
   bool gyro_seeded = false;
 };
@@ -84,6 +84,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.gyro_seeded = r.tracking.gyro_seeded;
   f.n_realigned_affine = r.n_realigned_affine, f.n_unflagged_affine = r.n_unflagged_affine;
   f.n_isolated = r.n_isolated;
+  f.n_contests_lost = r.n_contests_lost;
   return f;
 }
 
@@ -145,7 +146,8 @@ const std::vector<const char*> kOptionFields = {
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc", "affine_realign",
-    "affine_min_correlation", "affine_refit_model", "group_min_support", "group_radius_factor"};
+    "affine_min_correlation", "affine_refit_model", "group_min_support", "group_radius_factor", "trust_contest_ratio",
+    "trust_contest_frames"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -216,6 +218,12 @@ void init_frontend(py::module_& m) {
                      "fit the camera's motion on the tracks static in their last test")
       .def_readwrite("trusted_min_tests", &ImageFrontendOptions::trusted_min_tests,
                      "tests a track needs before it can be trusted")
+      .def_readwrite("trust_contest_ratio", &ImageFrontendOptions::trust_contest_ratio,
+                     "the trusted model gives way when the model of the tracks it flags passes more than this many "
+                     "times as many matches (0: off)")
+      .def_readwrite("trust_contest_frames", &ImageFrontendOptions::trust_contest_frames,
+                     "the contest runs within this many frames of a cold start (a model fitted on all matches; < 0: "
+                     "always)")
       .def("__repr__", [](const py::object& self) { return repr_from_fields(self, "FrontendOptions", kOptionFields); });
 
   py::class_<FrontendFrame>(m, "FrontendFrame",
@@ -242,6 +250,8 @@ void init_frontend(py::module_& m) {
       .def_readonly("n_unflagged_affine", &FrontendFrame::n_unflagged_affine, "of those, the ones that turned static")
       .def_readonly("n_isolated", &FrontendFrame::n_isolated,
                     "dynamic flags without another flag within the group radius (not counted in n_dynamic)")
+      .def_readonly("n_contests_lost", &FrontendFrame::n_contests_lost,
+                    "tests whose trusted model gave way to the model of the tracks it flagged (trust_contest_ratio)")
       .def_readonly("tracking_ms", &FrontendFrame::tracking_ms)
       .def_readonly("classification_ms", &FrontendFrame::classification_ms)
       .def("__repr__", [](const FrontendFrame& f) {

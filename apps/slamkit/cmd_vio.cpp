@@ -283,6 +283,12 @@ void add_vio_command(CLI::App& app) {
                   "with --images: fit the camera motion on the tracks static in their last test")->capture_default_str();
   sub->add_option("--trusted-min-tests", o->image.vio.frontend.trusted_min_tests,
                   "with --images: tests a track needs to be trusted")->check(CLI::Range(1, 16))->capture_default_str();
+  sub->add_option("--trust-contest", o->image.vio.frontend.trust_contest_ratio,
+                  "with --images: the trusted model gives way when the model of the tracks it flags passes this many "
+                  "times as many matches (0: off)")->check(cli::FiniteRange(0.0, 1000.0))->capture_default_str();
+  sub->add_option("--trust-contest-frames", o->image.vio.frontend.trust_contest_frames,
+                  "with --images: the contest runs within this many frames of a cold start (< 0: always)")
+      ->check(CLI::Range(-1, 1000000))->capture_default_str();
   sub->add_option("--min-trusted-matches", o->image.vio.frontend.filter.min_trusted_matches,
                   "with --images: fewer trusted matches: fit on all")->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--refine-essential", o->image.vio.frontend.filter.refine_essential,

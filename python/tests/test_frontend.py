@@ -60,6 +60,7 @@ def test_real_pair_tracks_and_classifies_deterministically():
     assert r.status == "epipolar" and r.tracked > 100 and r.uv.shape == (r.ids.size, 2)
     assert r.n_static + r.n_dynamic + r.n_isolated + r.n_unknown == r.ids.size
     assert 0.8 < r.static_ratio < 1.0 and r.n_dynamic > 0  # the whale and the wheel move
+    assert r.n_contests_lost == 0  # a cold start, but the rigid scene's model wins on its own
     np.testing.assert_array_equal(r.motion, runs[1].motion)
     np.testing.assert_array_equal(r.uv, runs[1].uv)
 
@@ -203,6 +204,18 @@ def test_group_rule_options():
         sk.ImageFrontend(group_min_support=-1)
     with pytest.raises(ValueError, match="radius_factor"):
         sk.ImageFrontend(group_radius_factor=float("nan"))
+
+
+def test_trust_contest_options():
+    o = sk.FrontendOptions()
+    assert (o.trust_contest_ratio, o.trust_contest_frames) == (1.5, 40)  # on by default since session 37
+    o = sk.FrontendOptions(trust_contest_ratio=2.0, trust_contest_frames=-1)
+    f = sk.ImageFrontend(o).options
+    assert (f.trust_contest_ratio, f.trust_contest_frames) == (2.0, -1)
+    assert "trust_contest_ratio=2.0" in repr(o)
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="trust_contest_ratio"):
+            sk.ImageFrontend(trust_contest_ratio=bad)
 
 
 def test_group_rule_marks_isolated_flags_on_a_real_pair():

@@ -225,6 +225,19 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   return finish();
 }
 
+bool DynamicFeatureFilter::contest(const std::vector<Eigen::Vector2d>& prev, const std::vector<Eigen::Vector2d>& cur,
+                                   const Eigen::Matrix3d* R_c2_c1, double ratio, Classification* c) const {
+  if (c->status != ClassificationStatus::kEpipolar || c->flags.size() != prev.size() ||
+      c->n_dynamic < std::max(options_.min_matches, options_.min_trusted_matches))
+    return false;
+  std::vector<char> flagged(c->flags.size());
+  for (std::size_t m = 0; m < flagged.size(); ++m) flagged[m] = c->flags[m] == FeatureMotion::kDynamic;
+  Classification alt = classify(prev, cur, &flagged, R_c2_c1);
+  if (alt.status != ClassificationStatus::kEpipolar || !(alt.n_static > ratio * c->n_static)) return false;
+  *c = std::move(alt);
+  return true;
+}
+
 namespace {
 
 // Essential matrix from ≥ 8 bearing pairs by linear least squares (b2ᵀ E b1 = 0, one row

@@ -39,6 +39,8 @@ ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const
   check_epipolar_search_options(options_.epipolar_search);
   check_affine_realign_options(options_.affine_realign);
   check_dynamic_group_options(options_.groups);
+  if (!(options_.trust_contest_ratio >= 0.0 && std::isfinite(options_.trust_contest_ratio)))
+    throw std::invalid_argument("ImageFrontend: trust_contest_ratio must be finite and >= 0");
 }
 
 FeatureMotion consistent_motion(std::uint16_t over, int count, int checks, int hits, bool was_dynamic) {
@@ -76,6 +78,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     baseline[i] = b >= k ? k : std::min(b, 1);  // two RANSACs per frame at most: k and 1
     longest = std::max(longest, baseline[i]);
   }
+  bool cold_start = false;  // a test fitted on all its matches: too few trusted
   for (int b = longest; b >= 1; b = b > 1 ? 1 : 0) {
     const auto& then = history_[b - 1];
     std::vector<Eigen::Vector2d> p1, p2;
@@ -106,6 +109,13 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
       for (int j = 0; j + 1 < b && R; ++j) R = rotations_[j] ? std::optional<Eigen::Matrix3d>(*R * *rotations_[j]) : std::nullopt;
     }
     Classification c = filter.classify(p1, p2, options_.trusted_model ? &trusted : nullptr, R ? &*R : nullptr);
+    // Trust contest while the trust is young (see the header): a cold start is a fit on all matches.
+    const int min_fit = std::max(options_.filter.min_matches, options_.filter.min_trusted_matches);
+    if (options_.trusted_model && std::count(trusted.begin(), trusted.end(), 1) < min_fit) cold_start = true;
+    const bool young = options_.trust_contest_frames < 0 || frames_since_cold_start_ <= options_.trust_contest_frames;
+    if (options_.trusted_model && options_.trust_contest_ratio > 0.0 && young &&
+        filter.contest(p1, p2, R ? &*R : nullptr, options_.trust_contest_ratio, &c))
+      ++out.n_contests_lost;
     std::vector<char> tested(index.size());  // only the features whose flag this test sets
     for (std::size_t m = 0; m < index.size(); ++m) tested[m] = baseline[index[m]] == b;
     // Matches whose pixel in frame t a second look moved: their tracks continue from there.
@@ -259,6 +269,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   }
   const int classified = out.n_static + out.n_dynamic + out.n_isolated;
   out.static_ratio = classified > 0 ? static_cast<double>(out.n_static) / classified : 1.0;
+  frames_since_cold_start_ = cold_start ? 0 : frames_since_cold_start_ + 1;
   // History: this frame becomes t − 1.
   std::unordered_map<std::int64_t, Eigen::Vector2d> now;
   now.reserve(tracked.size());

@@ -208,6 +208,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       r.realigned_affine += f.n_realigned_affine, r.unflagged_affine += f.n_unflagged_affine;
       r.refits_affine += f.n_refits_affine;
       r.isolated_flags += f.n_isolated;
+      r.contests_lost += f.n_contests_lost;
       r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
       r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
       if (f.status == ClassificationStatus::kEpipolar) {

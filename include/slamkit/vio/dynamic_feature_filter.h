@@ -126,6 +126,12 @@ class DynamicFeatureFilter {
   /// used with options().known_rotation (see there).
   Classification classify(const std::vector<Eigen::Vector2d>& prev, const std::vector<Eigen::Vector2d>& cur,
                           const std::vector<char>* trusted = nullptr, const Eigen::Matrix3d* R_c2_c1 = nullptr) const;
+  /// Trust contest: c is classify()'s result with a trusted subset. The model fitted on the matches
+  /// c flags (at least max(min_matches, min_trusted_matches) of them) replaces c when it passes
+  /// more than `ratio` times as many matches as static; returns whether it did. A trusted set that
+  /// one rigid mover has captured flags the static scene, which agrees on a model of its own.
+  bool contest(const std::vector<Eigen::Vector2d>& prev, const std::vector<Eigen::Vector2d>& cur,
+               const Eigen::Matrix3d* R_c2_c1, double ratio, Classification* c) const;
   /// The virtual-pinhole pixel of a raw pixel (step 1); false if it cannot be undistorted.
   bool undistort(const Eigen::Vector2d& uv, Eigen::Vector2d* out) const;
   /// The raw pixel of a virtual-pinhole pixel (the inverse of undistort); false if the camera

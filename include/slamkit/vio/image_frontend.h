@@ -28,6 +28,11 @@
 // Trusted tracks (trusted_model): the camera's motion of each test is fitted on the tracks whose
 // last test was static (DynamicFilterOptions::min_trusted_matches), so that a crowd moving as one,
 // whose tracks are new or flagged, cannot take over the RANSAC.
+// Trust contest (trust_contest_ratio, trust_contest_frames): after a cold start (a test with too few
+// trusted tracks, fitted on all: the start, or tracks lost behind a walker covering the camera) the
+// first trusted set may be one rigid mover's. While the trust is young, the model fitted on the tracks
+// the trusted model flags replaces it when it passes more than ratio × as many matches
+// (DynamicFeatureFilter::contest); the next frame's trust follows the new flags.
 // Epipolar re-search (epipolar_search): each test's dynamic flags are re-searched along the
 // epipolar line in that test's frame pair; a re-found feature is static and its track moves.
 // Affine re-alignment (affine_realign): each test's dynamic flags get their patch of frame t − b
@@ -95,6 +100,14 @@ struct ImageFrontendOptions {
   /// those with at least trusted_min_tests epipolar tests, the last of them static.
   bool trusted_model = true;
   int trusted_min_tests = 1;
+  /// Trust contest: a test's model fitted on the trusted tracks gives way to the model fitted on
+  /// the tracks it flags when that one passes more than this many times as many of the test's
+  /// matches (0: off). A trusted set captured by one rigid mover (tracks born on a walker that
+  /// covered the camera) flags the static scene, which then agrees on a model of its own.
+  double trust_contest_ratio = 1.5;
+  /// The contest runs while the trust is young: within this many frames of the last test whose
+  /// model had too few trusted tracks and was fitted on all (a cold start); < 0: always.
+  int trust_contest_frames = 40;
   /// Before a test's dynamic flag counts, the feature is re-searched along its epipolar line in
   /// the frame pair of that test (feature_epipolar_search.h); re-found: static, and the track moves
   /// to the re-found pixel.
@@ -137,6 +150,7 @@ struct FrontendFrameResult {
   int n_unflagged_affine = 0;     ///< of those, the ones that turned static
   int n_refits_affine = 0;        ///< tests whose model was fitted again after the re-alignment
   int n_isolated = 0;             ///< dynamic flags without a flagged neighbour (groups): not counted as dynamic
+  int n_contests_lost = 0;        ///< tests whose trusted model gave way to the model of the tracks it flagged
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
   MotionModel motion_model = MotionModel::kEstimated;  ///< of the longest baseline run this frame
@@ -170,6 +184,7 @@ class ImageFrontend {
     return options_.min_patch_ncc_baseline > -1.0 || options_.epipolar_search.enabled || options_.affine_realign.enabled;
   }
   std::unordered_set<std::int64_t> flagged_dynamic_;
+  int frames_since_cold_start_ = 0;  ///< frames since a test's model was fitted on all its matches
   /// Per live track: bit i = the test i frames ago exceeded the threshold; and the number of tests.
   struct TestHistory {
     std::uint16_t over = 0;
