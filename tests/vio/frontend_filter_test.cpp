@@ -46,6 +46,30 @@ TrackScene make_scene(const CameraModel& cam, const SE3& T0_cw, const SE3& T1_cw
   return s;
 }
 
+// Two views of a camera stepping about 10 cm sideways (camera-from-world T0 -> T1) and the noisy
+// matches of the points both see; a point may move by `step` between the views.
+struct SidewaysPair {
+  SE3 T0, T1;
+  std::vector<Eigen::Vector2d> prev, cur;
+  std::vector<int> label;
+
+  SidewaysPair(std::uniform_real_distribution<double>& u, std::mt19937& rng) {
+    T0 = SE3::exp((Eigen::Matrix<double, 6, 1>() << 0.2 * u(rng), 0.1 * u(rng), 0.2 * u(rng), 0.05 * u(rng),
+                   0.05 * u(rng), 0.05 * u(rng)).finished());
+    T1 = SE3::exp((Eigen::Matrix<double, 6, 1>() << -0.1, 0.02 * u(rng), 0.02 * u(rng), 0.01 * u(rng),
+                   0.01 * u(rng), 0.01 * u(rng)).finished()) * T0;
+  }
+  // Nothing if the point is not seen in both views.
+  void add(const CameraModel& cam, const Eigen::Vector3d& pw, const Eigen::Vector3d& step, int l,
+           std::normal_distribution<double>& n, std::mt19937& rng) {
+    Eigen::Vector2d a, b;
+    if (!cam.project(T0.act(pw), &a) || !cam.project(T1.act(pw + step), &b)) return;
+    if (!cam.in_image(a, 2) || !cam.in_image(b, 2)) return;
+    prev.push_back(a + Eigen::Vector2d(n(rng), n(rng))), cur.push_back(b + Eigen::Vector2d(n(rng), n(rng)));
+    label.push_back(l);
+  }
+};
+
 TEST(DynamicFeatureFilter, MovingCameraAndRigidGroupOnFisheyeTracks) {
   const auto cam = tumvi_camera();
   DynamicFeatureFilter filter({}, cam);
@@ -108,23 +132,14 @@ TEST(DynamicFeatureFilter, TrustedMatchesKeepTheCameraMotionUnderAMajorityCrowd)
   std::normal_distribution<double> n(0.0, 0.2);
   DetectionScore fitted_on_all, fitted_on_trusted;
   for (int frame = 0; frame < 10; ++frame) {
-    const SE3 T0 = SE3::exp((Eigen::Matrix<double, 6, 1>() << 0.2 * u(rng), 0.1 * u(rng), 0.2 * u(rng), 0.05 * u(rng),
-                             0.05 * u(rng), 0.05 * u(rng)).finished());
-    const SE3 T1 = SE3::exp((Eigen::Matrix<double, 6, 1>() << -0.1, 0.02 * u(rng), 0.02 * u(rng), 0.01 * u(rng),
-                             0.01 * u(rng), 0.01 * u(rng)).finished()) * T0;
+    SidewaysPair v(u, rng);
     const Eigen::Vector3d crowd_step(0.0, 0.12, 0.03);  // the whole crowd walks 1.2 m/s for 0.1 s
-    std::vector<Eigen::Vector2d> prev, cur;
-    std::vector<int> label;
+    for (int i = 0; i < 40; ++i) v.add(*cam, Eigen::Vector3d(4 * u(rng), 3 * u(rng), 7 + 3 * u(rng)), Eigen::Vector3d::Zero(), 0, n, rng);
+    for (int i = 0; i < 110; ++i) v.add(*cam, Eigen::Vector3d(1.5 * u(rng), 1.0 * u(rng), 2.5 + 0.5 * u(rng)), crowd_step, 1, n, rng);
+    const auto& prev = v.prev;
+    const auto& cur = v.cur;
+    const auto& label = v.label;
     std::vector<char> trusted;
-    auto add = [&](const Eigen::Vector3d& pw, const Eigen::Vector3d& step, int l) {
-      Eigen::Vector2d a, b;
-      if (!cam->project(T0.act(pw), &a) || !cam->project(T1.act(pw + step), &b)) return;
-      if (!cam->in_image(a, 2) || !cam->in_image(b, 2)) return;
-      prev.push_back(a + Eigen::Vector2d(n(rng), n(rng))), cur.push_back(b + Eigen::Vector2d(n(rng), n(rng)));
-      label.push_back(l);
-    };
-    for (int i = 0; i < 40; ++i) add(Eigen::Vector3d(4 * u(rng), 3 * u(rng), 7 + 3 * u(rng)), Eigen::Vector3d::Zero(), 0);
-    for (int i = 0; i < 110; ++i) add(Eigen::Vector3d(1.5 * u(rng), 1.0 * u(rng), 2.5 + 0.5 * u(rng)), crowd_step, 1);
     int static_seen = 0, crowd_seen = 0;
     for (int l : label) {
       const int& seen = l == 0 ? static_seen : crowd_seen;
@@ -160,23 +175,16 @@ TEST(DynamicFeatureFilter, TrustContestRecoversFromATrustedSetOnOneWalker) {
     DetectionScore trusted_model, after_contest;
     int lost = 0;
     for (int frame = 0; frame < 10; ++frame) {
-      const SE3 T0 = SE3::exp((Eigen::Matrix<double, 6, 1>() << 0.2 * u(rng), 0.1 * u(rng), 0.2 * u(rng), 0.05 * u(rng),
-                               0.05 * u(rng), 0.05 * u(rng)).finished());
-      const SE3 T1 = SE3::exp((Eigen::Matrix<double, 6, 1>() << -0.1, 0.02 * u(rng), 0.02 * u(rng), 0.01 * u(rng),
-                               0.01 * u(rng), 0.01 * u(rng)).finished()) * T0;
+      SidewaysPair v(u, rng);
       const Eigen::Vector3d walker_step(0.1, 0.0, 0.06);  // 1.2 m/s for 0.1 s
-      std::vector<Eigen::Vector2d> prev, cur;
-      std::vector<int> label;
+      for (int i = 0; i < background; ++i)
+        v.add(*cam, Eigen::Vector3d(4 * u(rng), 3 * u(rng), 5 + 2 * u(rng)), Eigen::Vector3d::Zero(), 0, n, rng);
+      for (int i = 0; i < 40; ++i) v.add(*cam, Eigen::Vector3d(0.4 * u(rng), 0.9 * u(rng), 1.5 + 0.2 * u(rng)), walker_step, 1, n, rng);
+      const auto& prev = v.prev;
+      const auto& cur = v.cur;
+      const auto& label = v.label;
       std::vector<char> trusted;
-      auto add = [&](const Eigen::Vector3d& pw, const Eigen::Vector3d& step, int l) {
-        Eigen::Vector2d a, b;
-        if (!cam->project(T0.act(pw), &a) || !cam->project(T1.act(pw + step), &b)) return;
-        if (!cam->in_image(a, 2) || !cam->in_image(b, 2)) return;
-        prev.push_back(a + Eigen::Vector2d(n(rng), n(rng))), cur.push_back(b + Eigen::Vector2d(n(rng), n(rng)));
-        label.push_back(l), trusted.push_back(l == 1);
-      };
-      for (int i = 0; i < background; ++i) add(Eigen::Vector3d(4 * u(rng), 3 * u(rng), 5 + 2 * u(rng)), Eigen::Vector3d::Zero(), 0);
-      for (int i = 0; i < 40; ++i) add(Eigen::Vector3d(0.4 * u(rng), 0.9 * u(rng), 1.5 + 0.2 * u(rng)), walker_step, 1);
+      for (int l : label) trusted.push_back(l == 1);
       Classification c = filter.classify(prev, cur, &trusted);
       trusted_model += score_against_feature_labels(label, c.flags);
       lost += filter.contest(prev, cur, nullptr, 1.2, &c);
