@@ -351,6 +351,8 @@ void add_vio_command(CLI::App& app) {
       ->check(CLI::Range(-1, 50))->capture_default_str();
   sub->add_option("--klt-window", o->image.vio.frontend.tracker.klt_window, "with --images: KLT window side (px)")
       ->check(CLI::Range(3, 101))->capture_default_str();
+  sub->add_option("--klt-levels", o->image.vio.frontend.tracker.klt_pyramid_levels,
+                  "with --images: KLT pyramid levels above the full image")->check(CLI::Range(0, 8))->capture_default_str();
   sub->add_option_function<std::string>(
          "--rlof-refine", [o](const std::string& v) { o->image.vio.frontend.tracker.rlof_refine = parse_rlof_refine(v); },
          "with --images: refine by robust local optical flow (RLOF: cross-based support region, M-estimator): off, "

@@ -118,6 +118,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"cheirality", o.vio.frontend.filter.cheirality},
                {"gyro_klt", gyro_klt_name(o.vio.frontend.tracker.gyro_klt)},
                {"klt_window", o.vio.frontend.tracker.klt_window},
+               {"klt_levels", o.vio.frontend.tracker.klt_pyramid_levels},
                {"rlof_refine", rlof_refine_name(o.vio.frontend.tracker.rlof_refine)},
                {"dynamic_precision", s.precision()},
                {"dynamic_recall", s.recall()},
