@@ -140,7 +140,7 @@ void named_field(py::class_<ImageFrontendOptions>& c, const char* name, E Featur
 }
 
 const std::vector<const char*> kOptionFields = {
-    "max_features", "min_distance_px", "klt_window", "rlof_refine", "forward_backward_px", "ambiguity_px",
+    "max_features", "min_distance_px", "klt_window", "klt_pyramid_levels", "rlof_refine", "forward_backward_px", "ambiguity_px",
     "ambiguity_ratio", "threshold_px",
     "ransac_threshold_px", "static_camera_flow_px", "min_trusted_matches", "refine_essential", "known_rotation",
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
@@ -169,6 +169,7 @@ void init_frontend(py::module_& m) {
   field(opt, "max_features", &FeatureTrackerOptions::max_features, "features kept per frame");
   field(opt, "min_distance_px", &FeatureTrackerOptions::min_distance_px, "minimum distance between features");
   field(opt, "klt_window", &FeatureTrackerOptions::klt_window, "KLT window side (px, >= 3)");
+  field(opt, "klt_pyramid_levels", &FeatureTrackerOptions::klt_pyramid_levels, "KLT pyramid levels above the full image");
   named_field(opt, "rlof_refine", &FeatureTrackerOptions::rlof_refine, rlof_refine_name, parse_rlof_refine,
               "robust local optical flow (RLOF) refinement: 'off', 'track' (= 'on': the tracks) or 'test' (only the "
               "epipolar test's positions)");

@@ -125,6 +125,10 @@ def test_klt_window_option():
     assert sk.ImageFrontend(o).options.klt_window == 15 and "klt_window=15" in repr(o)
     with pytest.raises(ValueError, match="klt_window"):
         sk.ImageFrontend(sk.FrontendOptions(klt_window=2))
+    assert sk.FrontendOptions().klt_pyramid_levels == 3
+    assert sk.ImageFrontend(klt_pyramid_levels=2).options.klt_pyramid_levels == 2
+    with pytest.raises(ValueError, match="klt_pyramid_levels"):
+        sk.ImageFrontend(klt_pyramid_levels=-1)
 
 
 def test_rlof_refine_option():
