@@ -176,7 +176,7 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
   if (trusted) {
     int n_trusted = 0;
     for (std::size_t k = 0; k < m; ++k) n_trusted += (*trusted)[index[k]] != 0;
-    if (n_trusted >= std::max(options_.min_matches, options_.min_trusted_matches))
+    if (n_trusted >= options_.min_subset_fit())
       for (std::size_t k = 0; k < m; ++k) fit[k] = (*trusted)[index[k]] != 0;
   }
   if (options_.known_rotation && R_c2_c1) {  // IMU-aided: the translation direction alone (session 28)
@@ -228,7 +228,7 @@ Classification DynamicFeatureFilter::classify(const std::vector<Eigen::Vector2d>
 bool DynamicFeatureFilter::contest(const std::vector<Eigen::Vector2d>& prev, const std::vector<Eigen::Vector2d>& cur,
                                    const Eigen::Matrix3d* R_c2_c1, double ratio, Classification* c) const {
   if (c->status != ClassificationStatus::kEpipolar || c->flags.size() != prev.size() ||
-      c->n_dynamic < std::max(options_.min_matches, options_.min_trusted_matches))
+      c->n_dynamic < options_.min_subset_fit())
     return false;
   std::vector<char> flagged(c->flags.size());
   for (std::size_t m = 0; m < flagged.size(); ++m) flagged[m] = c->flags[m] == FeatureMotion::kDynamic;

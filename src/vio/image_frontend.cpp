@@ -110,8 +110,8 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     }
     Classification c = filter.classify(p1, p2, options_.trusted_model ? &trusted : nullptr, R ? &*R : nullptr);
     // Trust contest while the trust is young (see the header): a cold start is a fit on all matches.
-    const int min_fit = std::max(options_.filter.min_matches, options_.filter.min_trusted_matches);
-    if (options_.trusted_model && std::count(trusted.begin(), trusted.end(), 1) < min_fit) cold_start = true;
+    if (options_.trusted_model && std::count(trusted.begin(), trusted.end(), 1) < options_.filter.min_subset_fit())
+      cold_start = true;
     const bool young = options_.trust_contest_frames < 0 || frames_since_cold_start_ <= options_.trust_contest_frames;
     if (options_.trusted_model && options_.trust_contest_ratio > 0.0 && young &&
         filter.contest(p1, p2, R ? &*R : nullptr, options_.trust_contest_ratio, &c))

@@ -22,6 +22,8 @@
 // every feature is "unknown", M = 1 (nothing is known to move), and the status says why.
 #pragma once
 
+#include <algorithm>
+
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
@@ -63,6 +65,8 @@ struct DynamicFilterOptions {
   /// more matches than the background and win the RANSAC on all matches (docs/frontend.md,
   /// session 25); tracks that were static in their last test cannot be that crowd's.
   int min_trusted_matches = 16;
+  /// Matches a subset needs for the model to be fitted on it alone: max(min_matches, min_trusted_matches).
+  int min_subset_fit() const { return std::max(min_matches, min_trusted_matches); }
   /// Spherical mode: refine E = [t]× R after the linear refit by Levenberg–Marquardt on the
   /// matches it was fitted on, minimizing Σ ρ(s_i), s_i = b2·(t × R b1) / |t × R b1| (the sine of
   /// the angle between b2 and the epipolar plane), ρ the Cauchy loss at ransac_threshold_px / fx.
