@@ -55,7 +55,7 @@ struct FrontendFrame {
   int n_static = 0, n_dynamic = 0, n_unknown = 0, tracked = 0, detected = 0;
   int n_realigned_affine = 0, n_unflagged_affine = 0, n_isolated = 0, n_contests_lost = 0;
   std::string status, motion_model;
-  bool gyro_seeded = false;
+  bool gyro_seeded = false, trust_undecided = false;
 };
 
 FrontendFrame to_frame(const FrontendFrameResult& r) {
@@ -85,6 +85,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.n_realigned_affine = r.n_realigned_affine, f.n_unflagged_affine = r.n_unflagged_affine;
   f.n_isolated = r.n_isolated;
   f.n_contests_lost = r.n_contests_lost;
+  f.trust_undecided = r.trust_undecided;
   return f;
 }
 
@@ -146,8 +147,8 @@ const std::vector<const char*> kOptionFields = {
     "rotation_prior_sigma_rad", "pure_rotation_share", "cheirality", "gyro_klt", "baseline_frames",
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc", "affine_realign",
-    "affine_min_correlation", "affine_refit_model", "group_min_support", "group_radius_factor", "trust_contest_ratio",
-    "trust_contest_frames"};
+    "affine_min_correlation", "affine_refit_model", "group_min_support", "group_radius_factor", "group_turned_min_support",
+    "group_turned_static_tests", "trust_contest_ratio", "trust_contest_frames", "young_trust_majority"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -210,6 +211,10 @@ void init_frontend(py::module_& m) {
         "a dynamic flag stands only with at least this many other flags near it (0: off)");
   field(opt, "group_radius_factor", &DynamicGroupOptions::radius_factor,
         "the group rule's neighbourhood, in multiples of min_distance_px");
+  field(opt, "group_turned_min_support", &DynamicGroupOptions::turned_min_support,
+        "a flag on a track static in its last group_turned_static_tests tests needs this many other flags near it");
+  field(opt, "group_turned_static_tests", &DynamicGroupOptions::turned_static_tests,
+        "static tests in a row that make a newly flagged track 'turned'");
   named_field(opt, "gyro_klt", &FeatureTrackerOptions::gyro_klt, gyro_klt_name, parse_gyro_klt,
               "KLT seeded by the rotation given to process(): 'off', 'seed' ('on') or 'candidate'");
   opt.def_readwrite("baseline_frames", &ImageFrontendOptions::baseline_frames, "longest baseline of the test")
@@ -225,6 +230,9 @@ void init_frontend(py::module_& m) {
       .def_readwrite("trust_contest_frames", &ImageFrontendOptions::trust_contest_frames,
                      "the contest runs within this many frames of a cold start (a model fitted on all matches; < 0: "
                      "always)")
+      .def_readwrite("young_trust_majority", &ImageFrontendOptions::young_trust_majority,
+                     "within trust_contest_frames of a cold start, a frame's flags claim movers only when its static "
+                     "features number at least trust_contest_ratio times its flags (else they are isolated)")
       .def("__repr__", [](const py::object& self) { return repr_from_fields(self, "FrontendOptions", kOptionFields); });
 
   py::class_<FrontendFrame>(m, "FrontendFrame",
@@ -253,6 +261,8 @@ void init_frontend(py::module_& m) {
                     "dynamic flags without another flag within the group radius (not counted in n_dynamic)")
       .def_readonly("n_contests_lost", &FrontendFrame::n_contests_lost,
                     "tests whose trusted model gave way to the model of the tracks it flagged (trust_contest_ratio)")
+      .def_readonly("trust_undecided", &FrontendFrame::trust_undecided,
+                    "young trust without a majority (young_trust_majority): every flag of the frame is isolated")
       .def_readonly("tracking_ms", &FrontendFrame::tracking_ms)
       .def_readonly("classification_ms", &FrontendFrame::classification_ms)
       .def("__repr__", [](const FrontendFrame& f) {

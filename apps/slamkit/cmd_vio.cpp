@@ -289,6 +289,15 @@ void add_vio_command(CLI::App& app) {
   sub->add_option("--trust-contest-frames", o->image.vio.frontend.trust_contest_frames,
                   "with --images: the contest runs within this many frames of a cold start (< 0: always)")
       ->check(CLI::Range(-1, 1000000))->capture_default_str();
+  sub->add_option("--young-trust-majority", o->image.vio.frontend.young_trust_majority,
+                  "with --images: within --trust-contest-frames of a cold start, a frame's flags claim movers only "
+                  "when its static features outnumber them --trust-contest times")->capture_default_str();
+  sub->add_option("--group-turned-support", o->image.vio.frontend.groups.turned_min_support,
+                  "with --images: a flag on a track static in its last --group-turned-tests tests needs this many "
+                  "other flags near it")->check(CLI::Range(0, 1000))->capture_default_str();
+  sub->add_option("--group-turned-tests", o->image.vio.frontend.groups.turned_static_tests,
+                  "with --images: static tests in a row that make a newly flagged track 'turned'")
+      ->check(CLI::Range(1, 16))->capture_default_str();
   sub->add_option("--min-trusted-matches", o->image.vio.frontend.filter.min_trusted_matches,
                   "with --images: fewer trusted matches: fit on all")->check(cli::NonNegativeNumber)->capture_default_str();
   sub->add_option("--refine-essential", o->image.vio.frontend.filter.refine_essential,

@@ -222,6 +222,36 @@ def test_trust_contest_options():
             sk.ImageFrontend(trust_contest_ratio=bad)
 
 
+def test_turned_flag_and_young_trust_options():
+    o = sk.FrontendOptions()
+    assert (o.group_turned_min_support, o.group_turned_static_tests, o.young_trust_majority) == (2, 2, True)  # session 38
+    o = sk.FrontendOptions(group_turned_min_support=3, group_turned_static_tests=4, young_trust_majority=False)
+    f = sk.ImageFrontend(o).options
+    assert (f.group_turned_min_support, f.group_turned_static_tests, f.young_trust_majority) == (3, 4, False)
+    assert "group_turned_min_support=3" in repr(o) and "young_trust_majority=False" in repr(o)
+    with pytest.raises(ValueError, match="turned_min_support"):
+        sk.ImageFrontend(group_turned_min_support=-1)
+    with pytest.raises(ValueError, match="turned_static_tests"):
+        sk.ImageFrontend(group_turned_static_tests=0)
+
+
+def test_young_trust_without_a_majority_claims_no_mover():
+    require_data("vio/dynamic_video")
+    d = data_root() / "vio" / "dynamic_video"
+    a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+    frames = {}
+    # The second frame is young trust (one frame after the cold start); with a ratio above
+    # static / flags no side has the majority, so every flag is isolated; with the rule off they stand.
+    for majority in (False, True):
+        f = sk.ImageFrontend(baseline_frames=1, trust_contest_ratio=50.0, young_trust_majority=majority)
+        f.process(a)
+        frames[majority] = f.process(b)
+    off, on = frames[False], frames[True]
+    assert not off.trust_undecided and off.n_dynamic > 0
+    assert on.trust_undecided and on.n_dynamic == 0 and on.n_isolated == off.n_dynamic + off.n_isolated
+    assert (on.motion == off.motion).all() and on.n_static == off.n_static and on.static_ratio == off.static_ratio
+
+
 def test_group_rule_marks_isolated_flags_on_a_real_pair():
     require_data("vio/dynamic_video")
     d = data_root() / "vio" / "dynamic_video"

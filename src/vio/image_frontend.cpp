@@ -236,9 +236,13 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   std::unordered_map<std::int64_t, TestHistory> tests;
   tests.reserve(out.features.size());
   std::unordered_set<std::int64_t> still;
-  for (FrontendFeature& f : out.features) {
+  std::vector<char> turned(out.features.size(), 0);  // flagged after turned_static_tests static tests (groups)
+  const int turned_tests = std::min(options_.groups.turned_static_tests, 16);
+  for (std::size_t i = 0; i < out.features.size(); ++i) {
+    FrontendFeature& f = out.features[i];
     TestHistory h;
     if (const auto it = tests_.find(f.id); it != tests_.end()) h = it->second;
+    const bool was_static = h.count >= turned_tests && !h.dynamic && (h.over & ((1u << turned_tests) - 1u)) == 0;
     if (f.motion != FeatureMotion::kUnknown) {  // a test ran this frame: shift it in
       h.over = static_cast<std::uint16_t>((h.over << 1) | (f.motion == FeatureMotion::kDynamic ? 1 : 0));
       h.count = std::min(h.count + 1, 16);
@@ -249,6 +253,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     f.checks = n, f.hits = 0;
     for (int i = 0; i < n; ++i) f.hits += (h.over >> i) & 1;
     tests.emplace(f.id, h);
+    turned[i] = was_static && f.motion == FeatureMotion::kDynamic;
     if (options_.sticky_dynamic && flagged_dynamic_.count(f.id)) f.motion = FeatureMotion::kDynamic;
     if (f.motion == FeatureMotion::kDynamic) still.insert(f.id);
   }
@@ -259,8 +264,20 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   std::vector<FeatureMotion> flags(out.features.size());
   for (std::size_t i = 0; i < out.features.size(); ++i) uv[i] = out.features[i].uv, flags[i] = out.features[i].motion;
   std::vector<char> isolated;
-  out.n_isolated =
-      mark_isolated_flags(uv, flags, options_.groups, options_.groups.radius_px(options_.tracker.min_distance_px), &isolated);
+  out.n_isolated = mark_isolated_flags(uv, flags, options_.groups,
+                                       options_.groups.radius_px(options_.tracker.min_distance_px), &isolated, &turned);
+  // Young trust without a majority (see the header): no flag of this frame claims a mover.
+  const int trust_age = cold_start ? 0 : frames_since_cold_start_ + 1;
+  if (options_.young_trust_majority && options_.trusted_model && options_.trust_contest_ratio > 0.0 &&
+      (options_.trust_contest_frames < 0 || trust_age <= options_.trust_contest_frames)) {
+    const auto n_flags = std::count(flags.begin(), flags.end(), FeatureMotion::kDynamic);
+    const auto n_static = std::count(flags.begin(), flags.end(), FeatureMotion::kStatic);
+    if (n_flags > 0 && n_static < options_.trust_contest_ratio * n_flags) {
+      out.trust_undecided = true;
+      for (std::size_t i = 0; i < flags.size(); ++i)
+        if (flags[i] == FeatureMotion::kDynamic && !isolated[i]) isolated[i] = 1, ++out.n_isolated;
+    }
+  }
   for (std::size_t i = 0; i < out.features.size(); ++i) out.features[i].isolated = isolated[i] != 0;
   for (const FrontendFeature& f : out.features) {
     if (f.motion == FeatureMotion::kStatic) ++out.n_static;

@@ -209,6 +209,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       r.refits_affine += f.n_refits_affine;
       r.isolated_flags += f.n_isolated;
       r.contests_lost += f.n_contests_lost;
+      r.trust_undecided_frames += f.trust_undecided;
       r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
       r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
       if (f.status == ClassificationStatus::kEpipolar) {

@@ -39,6 +39,34 @@ TEST(DynamicGroups, RadiusAndSupportAreTheRule) {
   EXPECT_EQ(marks(uv, {D, D, D, D}, DynamicGroupOptions{}, 200.0, 0), (std::vector<char>{0, 0, 0, 0}));
 }
 
+TEST(DynamicGroups, ATurnedFlagNeedsTwoSupporters) {
+  // A pair of flags 40 px apart and a group of three; the first flag of each was static before.
+  const std::vector<Eigen::Vector2d> uv = {{0, 0}, {40, 0}, {300, 0}, {340, 0}, {300, 40}};
+  const std::vector<FeatureMotion> flags = {D, D, D, D, D};
+  const std::vector<char> turned = {1, 0, 1, 0, 0};
+  std::vector<char> isolated;
+  // The pair's turned flag has one supporter: isolated; its partner stands (the neighbours are the
+  // flags before the rule). In the group the turned flag has two: it stands.
+  EXPECT_EQ(mark_isolated_flags(uv, flags, DynamicGroupOptions{}, 60.0, &isolated, &turned), 1);
+  EXPECT_EQ(isolated, (std::vector<char>{1, 0, 0, 0, 0}));
+  // turned_min_support 0 (or ≤ min_support): the plain rule; min_support 0 turns both off.
+  DynamicGroupOptions plain;
+  plain.turned_min_support = 0;
+  EXPECT_EQ(mark_isolated_flags(uv, flags, plain, 60.0, &isolated, &turned), 0);
+  DynamicGroupOptions off;
+  off.min_support = 0;
+  EXPECT_EQ(mark_isolated_flags(uv, flags, off, 60.0, &isolated, &turned), 0);
+  // Without turned marks every flag is plain; marks of the wrong size are an error.
+  EXPECT_EQ(mark_isolated_flags(uv, flags, DynamicGroupOptions{}, 60.0, &isolated), 0);
+  const std::vector<char> short_marks = {1};
+  EXPECT_THROW(mark_isolated_flags(uv, flags, DynamicGroupOptions{}, 60.0, &isolated, &short_marks), std::invalid_argument);
+  DynamicGroupOptions bad;
+  bad.turned_min_support = -1;
+  EXPECT_THROW(check_dynamic_group_options(bad), std::invalid_argument);
+  bad.turned_min_support = 2, bad.turned_static_tests = 0;
+  EXPECT_THROW(check_dynamic_group_options(bad), std::invalid_argument);
+}
+
 TEST(DynamicGroups, OffNonFiniteAndBadInput) {
   const std::vector<Eigen::Vector2d> uv = {{0, 0}, {1, 0}, {std::numeric_limits<double>::quiet_NaN(), 0}};
   DynamicGroupOptions off;

@@ -33,6 +33,11 @@
 // first trusted set may be one rigid mover's. While the trust is young, the model fitted on the tracks
 // the trusted model flags replaces it when it passes more than ratio × as many matches
 // (DynamicFeatureFilter::contest); the next frame's trust follows the new flags.
+// Young trust needs a majority (young_trust_majority, session 38): while the contest may still run,
+// a frame whose static features do not outnumber its flags by trust_contest_ratio claims no mover:
+// its flags are isolated (left out of the estimator, not counted as dynamic). A young trusted set
+// may itself be one mover's (the contest hands it over only once the other side is that much
+// larger), so until one side is that much larger the frame cannot tell which side moves.
 // Epipolar re-search (epipolar_search): each test's dynamic flags are re-searched along the
 // epipolar line in that test's frame pair; a re-found feature is static and its track moves.
 // Affine re-alignment (affine_realign): each test's dynamic flags get their patch of frame t − b
@@ -42,8 +47,9 @@
 // IMU-aided model (filter.known_rotation, session 28): process() may be given the camera's rotation
 // since the previous frame (e.g. from the gyroscope); a test over b frames is given the product of
 // the last b of them (none if one is missing) and fits only the translation direction.
-// Dynamic groups (groups): a flag with no other flag near it is isolated (dynamic_groups.h): its
-// motion stays kDynamic (the estimator leaves it out) but it is not counted as dynamic.
+// Dynamic groups (groups): a flag with no other flag near it, or with fewer than two on a track whose
+// last two tests were static (turned), is isolated (dynamic_groups.h): its motion stays kDynamic
+// (the estimator leaves it out) but it is not counted as dynamic.
 // M = static / (static + dynamic + isolated) over the classified features of the frame.
 #pragma once
 
@@ -108,6 +114,9 @@ struct ImageFrontendOptions {
   /// The contest runs while the trust is young: within this many frames of the last test whose
   /// model had too few trusted tracks and was fitted on all (a cold start); < 0: always.
   int trust_contest_frames = 40;
+  /// Within trust_contest_frames of a cold start, a frame's flags claim movers only if its static
+  /// features number at least trust_contest_ratio × its flags; otherwise they are isolated.
+  bool young_trust_majority = true;
   /// Before a test's dynamic flag counts, the feature is re-searched along its epipolar line in
   /// the frame pair of that test (feature_epipolar_search.h); re-found: static, and the track moves
   /// to the re-found pixel.
@@ -151,6 +160,8 @@ struct FrontendFrameResult {
   int n_refits_affine = 0;        ///< tests whose model was fitted again after the re-alignment
   int n_isolated = 0;             ///< dynamic flags without a flagged neighbour (groups): not counted as dynamic
   int n_contests_lost = 0;        ///< tests whose trusted model gave way to the model of the tracks it flagged
+  /// Young trust without a majority (young_trust_majority): this frame's flags are all isolated.
+  bool trust_undecided = false;
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
   ClassificationStatus status = ClassificationStatus::kTooFewMatches;
   MotionModel motion_model = MotionModel::kEstimated;  ///< of the longest baseline run this frame
