@@ -165,18 +165,27 @@ def test_epipolar_search_options():
         sk.ImageFrontend(epipolar_search=True, epipolar_search_ncc_drop=-1.0)
 
 
-def test_affine_realign_options():
+def check_options(defaults, changed, bad):
+    """FrontendOptions: the defaults, the changed values through ImageFrontend and repr, and the
+    bad values (field, value, message) raising ValueError."""
     o = sk.FrontendOptions()
-    assert o.affine_realign is True and o.affine_min_correlation == 0.8  # on by default since session 35
-    assert o.affine_refit_model is True and o.threshold_px == 0.9
-    o = sk.FrontendOptions(affine_realign=False, affine_min_correlation=0.9, affine_refit_model=False)
+    assert {k: getattr(o, k) for k in defaults} == defaults
+    o = sk.FrontendOptions(**changed)
     f = sk.ImageFrontend(o).options
-    assert (f.affine_realign, f.affine_min_correlation, f.affine_refit_model) == (False, 0.9, False)
-    assert "affine_realign=False" in repr(o)
-    with pytest.raises(ValueError, match="min_correlation"):
-        sk.ImageFrontend(affine_min_correlation=float("nan"))
-    with pytest.raises(ValueError, match="min_correlation"):
-        sk.ImageFrontend(affine_min_correlation=1.5)
+    assert {k: getattr(f, k) for k in changed} == changed
+    for k, v in changed.items():
+        assert f"{k}={v!r}" in repr(o)
+    for field, value, message in bad:
+        with pytest.raises(ValueError, match=message):
+            sk.ImageFrontend(**{field: value})
+
+
+def test_affine_realign_options():
+    check_options({"affine_realign": True, "affine_min_correlation": 0.8, "affine_refit_model": True,  # since session 35
+                   "threshold_px": 0.9},
+                  {"affine_realign": False, "affine_min_correlation": 0.9, "affine_refit_model": False},
+                  [("affine_min_correlation", float("nan"), "min_correlation"),
+                   ("affine_min_correlation", 1.5, "min_correlation")])
 
 
 def test_affine_realign_counts_on_a_real_pair():
@@ -198,41 +207,22 @@ def test_affine_realign_counts_on_a_real_pair():
 
 
 def test_group_rule_options():
-    o = sk.FrontendOptions()
-    assert o.group_min_support == 1 and o.group_radius_factor == 2.0  # on by default since session 36
-    o = sk.FrontendOptions(group_min_support=2, group_radius_factor=3.0)
-    f = sk.ImageFrontend(o).options
-    assert (f.group_min_support, f.group_radius_factor) == (2, 3.0)
-    assert "group_min_support=2" in repr(o)
-    with pytest.raises(ValueError, match="min_support"):
-        sk.ImageFrontend(group_min_support=-1)
-    with pytest.raises(ValueError, match="radius_factor"):
-        sk.ImageFrontend(group_radius_factor=float("nan"))
+    check_options({"group_min_support": 1, "group_radius_factor": 2.0},  # on by default since session 36
+                  {"group_min_support": 2, "group_radius_factor": 3.0},
+                  [("group_min_support", -1, "min_support"), ("group_radius_factor", float("nan"), "radius_factor")])
 
 
 def test_trust_contest_options():
-    o = sk.FrontendOptions()
-    assert (o.trust_contest_ratio, o.trust_contest_frames) == (1.5, 40)  # on by default since session 37
-    o = sk.FrontendOptions(trust_contest_ratio=2.0, trust_contest_frames=-1)
-    f = sk.ImageFrontend(o).options
-    assert (f.trust_contest_ratio, f.trust_contest_frames) == (2.0, -1)
-    assert "trust_contest_ratio=2.0" in repr(o)
-    for bad in (-1.0, float("nan"), float("inf")):
-        with pytest.raises(ValueError, match="trust_contest_ratio"):
-            sk.ImageFrontend(trust_contest_ratio=bad)
+    check_options({"trust_contest_ratio": 1.5, "trust_contest_frames": 40},  # on by default since session 37
+                  {"trust_contest_ratio": 2.0, "trust_contest_frames": -1},
+                  [("trust_contest_ratio", bad, "trust_contest_ratio") for bad in (-1.0, float("nan"), float("inf"))])
 
 
 def test_turned_flag_and_young_trust_options():
-    o = sk.FrontendOptions()
-    assert (o.group_turned_min_support, o.group_turned_static_tests, o.young_trust_majority) == (2, 2, True)  # session 38
-    o = sk.FrontendOptions(group_turned_min_support=3, group_turned_static_tests=4, young_trust_majority=False)
-    f = sk.ImageFrontend(o).options
-    assert (f.group_turned_min_support, f.group_turned_static_tests, f.young_trust_majority) == (3, 4, False)
-    assert "group_turned_min_support=3" in repr(o) and "young_trust_majority=False" in repr(o)
-    with pytest.raises(ValueError, match="turned_min_support"):
-        sk.ImageFrontend(group_turned_min_support=-1)
-    with pytest.raises(ValueError, match="turned_static_tests"):
-        sk.ImageFrontend(group_turned_static_tests=0)
+    check_options({"group_turned_min_support": 2, "group_turned_static_tests": 2, "young_trust_majority": True},  # s38
+                  {"group_turned_min_support": 3, "group_turned_static_tests": 4, "young_trust_majority": False},
+                  [("group_turned_min_support", -1, "turned_min_support"),
+                   ("group_turned_static_tests", 0, "turned_static_tests")])
 
 
 def test_young_trust_without_a_majority_claims_no_mover():
