@@ -63,6 +63,7 @@ struct RenderedRun {
     // The figures here count every flag as a detection (measured before the group rule, which
     // tests/vio/image_frontend_realign_test.cpp tests at full resolution).
     o.frontend.groups.min_support = 0;
+    o.frontend.young_trust_majority = false;  // nor does a young trust withhold claims (session 38)
     return o;
   }
   // Frames are rendered once and reused by every front-end run of the test.
