@@ -222,7 +222,8 @@ def test_turned_flag_and_young_trust_options():
     check_options({"group_turned_min_support": 2, "group_turned_static_tests": 2, "young_trust_majority": True},  # s38
                   {"group_turned_min_support": 3, "group_turned_static_tests": 4, "young_trust_majority": False},
                   [("group_turned_min_support", -1, "turned_min_support"),
-                   ("group_turned_static_tests", 0, "turned_static_tests")])
+                   ("group_turned_static_tests", 0, "turned_static_tests"),
+                   ("group_turned_static_tests", 17, "turned_static_tests")])
 
 
 def test_young_trust_without_a_majority_claims_no_mover():

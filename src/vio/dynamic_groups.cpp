@@ -11,8 +11,8 @@ namespace slamkit {
 void check_dynamic_group_options(const DynamicGroupOptions& options) {
   if (options.min_support < 0)
     throw std::invalid_argument("dynamic groups: min_support must be >= 0, got " + std::to_string(options.min_support));
-  if (options.turned_min_support < 0 || options.turned_static_tests < 1)
-    throw std::invalid_argument("dynamic groups: turned_min_support must be >= 0 and turned_static_tests >= 1");
+  if (options.turned_min_support < 0 || options.turned_static_tests < 1 || options.turned_static_tests > 16)
+    throw std::invalid_argument("dynamic groups: turned_min_support must be >= 0 and turned_static_tests in 1..16");
   if (!(std::isfinite(options.radius_factor) && options.radius_factor > 0.0))
     throw std::invalid_argument("dynamic groups: radius_factor must be finite and > 0");
 }

@@ -112,8 +112,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     // Trust contest while the trust is young (see the header): a cold start is a fit on all matches.
     if (options_.trusted_model && std::count(trusted.begin(), trusted.end(), 1) < options_.filter.min_subset_fit())
       cold_start = true;
-    const bool young = options_.trust_contest_frames < 0 || frames_since_cold_start_ <= options_.trust_contest_frames;
-    if (options_.trusted_model && options_.trust_contest_ratio > 0.0 && young &&
+    if (options_.trusted_model && options_.trust_contest_ratio > 0.0 && young_trust(frames_since_cold_start_) &&
         filter.contest(p1, p2, R ? &*R : nullptr, options_.trust_contest_ratio, &c))
       ++out.n_contests_lost;
     std::vector<char> tested(index.size());  // only the features whose flag this test sets
@@ -237,7 +236,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   tests.reserve(out.features.size());
   std::unordered_set<std::int64_t> still;
   std::vector<char> turned(out.features.size(), 0);  // flagged after turned_static_tests static tests (groups)
-  const int turned_tests = std::min(options_.groups.turned_static_tests, 16);
+  const int turned_tests = options_.groups.turned_static_tests;  // 1..16 (checked)
   for (std::size_t i = 0; i < out.features.size(); ++i) {
     FrontendFeature& f = out.features[i];
     TestHistory h;
@@ -267,9 +266,8 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   out.n_isolated = mark_isolated_flags(uv, flags, options_.groups,
                                        options_.groups.radius_px(options_.tracker.min_distance_px), &isolated, &turned);
   // Young trust without a majority (see the header): no flag of this frame claims a mover.
-  const int trust_age = cold_start ? 0 : frames_since_cold_start_ + 1;
   if (options_.young_trust_majority && options_.trusted_model && options_.trust_contest_ratio > 0.0 &&
-      (options_.trust_contest_frames < 0 || trust_age <= options_.trust_contest_frames)) {
+      young_trust(cold_start ? 0 : frames_since_cold_start_ + 1)) {  // this frame's age
     const auto n_flags = std::count(flags.begin(), flags.end(), FeatureMotion::kDynamic);
     const auto n_static = std::count(flags.begin(), flags.end(), FeatureMotion::kStatic);
     if (n_flags > 0 && n_static < options_.trust_contest_ratio * n_flags) {

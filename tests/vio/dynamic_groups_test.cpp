@@ -65,6 +65,8 @@ TEST(DynamicGroups, ATurnedFlagNeedsTwoSupporters) {
   EXPECT_THROW(check_dynamic_group_options(bad), std::invalid_argument);
   bad.turned_min_support = 2, bad.turned_static_tests = 0;
   EXPECT_THROW(check_dynamic_group_options(bad), std::invalid_argument);
+  bad.turned_static_tests = 17;  // a track keeps its last 16 tests
+  EXPECT_THROW(check_dynamic_group_options(bad), std::invalid_argument);
 }
 
 TEST(DynamicGroups, OffNonFiniteAndBadInput) {

@@ -32,15 +32,15 @@ struct DynamicGroupOptions {
   /// (FeatureTrackerOptions::min_distance_px): 2 × 30 px = 60 px by default.
   double radius_factor = 2.0;
   /// The support a turned flag needs (see above; ≥ min_support applies, 0: no extra rule), and
-  /// how many static tests in a row before the flag make a track turned.
+  /// how many static tests in a row before the flag make a track turned (1..16: a track keeps 16).
   int turned_min_support = 2;
   int turned_static_tests = 2;
   /// The neighbourhood in pixels for a detector keeping features min_distance_px apart.
   double radius_px(double min_distance_px) const { return radius_factor * min_distance_px; }
 };
 
-/// Throws std::invalid_argument on min_support < 0, turned_min_support < 0, turned_static_tests < 1
-/// or a radius factor that is not finite and > 0.
+/// Throws std::invalid_argument on min_support < 0, turned_min_support < 0, turned_static_tests outside
+/// 1..16 or a radius factor that is not finite and > 0.
 void check_dynamic_group_options(const DynamicGroupOptions& options);
 
 /// Marks the isolated dynamic flags of one frame: (*isolated)[i] = 1 iff flags[i] == kDynamic and

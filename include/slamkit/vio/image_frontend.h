@@ -196,6 +196,8 @@ class ImageFrontend {
   }
   std::unordered_set<std::int64_t> flagged_dynamic_;
   int frames_since_cold_start_ = 0;  ///< frames since a test's model was fitted on all its matches
+  /// The trust is young at `age` frames after a cold start (the contest's and the claim rule's window).
+  bool young_trust(int age) const { return options_.trust_contest_frames < 0 || age <= options_.trust_contest_frames; }
   /// Per live track: bit i = the test i frames ago exceeded the threshold; and the number of tests.
   struct TestHistory {
     std::uint16_t over = 0;
