@@ -51,9 +51,10 @@ struct FrontendFrame {
   py::array_t<std::int8_t> motion;  ///< 0 unknown, 1 static, 2 dynamic (FeatureMotion)
   py::array_t<int> baseline;
   py::array_t<bool> isolated;  ///< dynamic flags without a flagged neighbour (not counted in n_dynamic)
+  py::array_t<bool> graced;    ///< flags kept through a test under the threshold (mover_grace_claims)
   double static_ratio = 1.0, tracking_ms = 0.0, classification_ms = 0.0;
   int n_static = 0, n_dynamic = 0, n_unknown = 0, tracked = 0, detected = 0;
-  int n_realigned_affine = 0, n_unflagged_affine = 0, n_isolated = 0, n_contests_lost = 0;
+  int n_realigned_affine = 0, n_unflagged_affine = 0, n_isolated = 0, n_contests_lost = 0, n_graced = 0;
   std::string status, motion_model;
   bool gyro_seeded = false, trust_undecided = false;
 };
@@ -67,6 +68,8 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.baseline = py::array_t<int>(n);
   f.isolated = py::array_t<bool>(n);
   auto isolated = f.isolated.mutable_unchecked<1>();
+  f.graced = py::array_t<bool>(n);
+  auto graced = f.graced.mutable_unchecked<1>();
   auto ids = f.ids.mutable_unchecked<1>();
   auto uv = f.uv.mutable_unchecked<2>();
   auto motion = f.motion.mutable_unchecked<1>();
@@ -75,6 +78,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
     const FrontendFeature& ft = r.features[static_cast<std::size_t>(i)];
     ids(i) = ft.id, uv(i, 0) = ft.uv.x(), uv(i, 1) = ft.uv.y();
     motion(i) = static_cast<std::int8_t>(ft.motion), baseline(i) = ft.baseline, isolated(i) = ft.isolated;
+    graced(i) = ft.graced;
   }
   f.static_ratio = r.static_ratio, f.tracking_ms = r.tracking_ms, f.classification_ms = r.classification_ms;
   f.n_static = r.n_static, f.n_dynamic = r.n_dynamic, f.n_unknown = r.n_unknown;
@@ -86,6 +90,7 @@ FrontendFrame to_frame(const FrontendFrameResult& r) {
   f.n_isolated = r.n_isolated;
   f.n_contests_lost = r.n_contests_lost;
   f.trust_undecided = r.trust_undecided;
+  f.n_graced = r.n_graced;
   return f;
 }
 
@@ -148,7 +153,8 @@ const std::vector<const char*> kOptionFields = {
     "consistency_checks", "consistency_hits", "trusted_model", "trusted_min_tests", "epipolar_search",
     "epipolar_search_range_px", "epipolar_search_ncc_drop", "epipolar_search_min_ncc", "affine_realign",
     "affine_min_correlation", "affine_refit_model", "group_min_support", "group_radius_factor", "group_turned_min_support",
-    "group_turned_static_tests", "trust_contest_ratio", "trust_contest_frames", "young_trust_majority"};
+    "group_turned_static_tests", "trust_contest_ratio", "trust_contest_frames", "young_trust_majority",
+    "mover_grace_claims"};
 
 ImageFrontendOptions options_from(const py::object& options, const py::kwargs& kw) {
   if (!options.is_none()) {
@@ -233,6 +239,9 @@ void init_frontend(py::module_& m) {
       .def_readwrite("young_trust_majority", &ImageFrontendOptions::young_trust_majority,
                      "within trust_contest_frames of a cold start, a frame's flags claim movers only when its static "
                      "features number at least trust_contest_ratio times its flags (else they are isolated)")
+      .def_readwrite("mover_grace_claims", &ImageFrontendOptions::mover_grace_claims,
+                     "a track claimed as a mover in each of its last this many frames keeps its flag through one test "
+                     "under the threshold (0: off)")
       .def("__repr__", [](const py::object& self) { return repr_from_fields(self, "FrontendOptions", kOptionFields); });
 
   py::class_<FrontendFrame>(m, "FrontendFrame",
@@ -244,6 +253,9 @@ void init_frontend(py::module_& m) {
       .def_readonly("baseline", &FrontendFrame::baseline)
       .def_readonly("isolated", &FrontendFrame::isolated,
                     "per feature: a dynamic flag (motion 2) without a flagged neighbour; not counted in n_dynamic")
+      .def_readonly("graced", &FrontendFrame::graced,
+                    "per feature: flagged (motion 2) through a test under the threshold by its run of claims "
+                    "(mover_grace_claims)")
       .def_readonly("static_ratio", &FrontendFrame::static_ratio, "M = static / (static + dynamic + isolated)")
       .def_readonly("n_static", &FrontendFrame::n_static)
       .def_readonly("n_dynamic", &FrontendFrame::n_dynamic)
@@ -263,6 +275,7 @@ void init_frontend(py::module_& m) {
                     "tests whose trusted model gave way to the model of the tracks it flagged (trust_contest_ratio)")
       .def_readonly("trust_undecided", &FrontendFrame::trust_undecided,
                     "young trust without a majority (young_trust_majority): every flag of the frame is isolated")
+      .def_readonly("n_graced", &FrontendFrame::n_graced, "flags kept through a test under the threshold (mover_grace_claims)")
       .def_readonly("tracking_ms", &FrontendFrame::tracking_ms)
       .def_readonly("classification_ms", &FrontendFrame::classification_ms)
       .def("__repr__", [](const FrontendFrame& f) {

@@ -292,6 +292,9 @@ void add_vio_command(CLI::App& app) {
   sub->add_option("--young-trust-majority", o->image.vio.frontend.young_trust_majority,
                   "with --images: within --trust-contest-frames of a cold start, a frame's flags claim movers only "
                   "when its static features outnumber them --trust-contest times")->capture_default_str();
+  sub->add_option("--mover-grace", o->image.vio.frontend.mover_grace_claims,
+                  "with --images: a track claimed as a mover in each of its last N frames keeps its flag through one "
+                  "test under the threshold (0: off)")->check(CLI::Range(0, 1000))->capture_default_str();
   sub->add_option("--group-turned-support", o->image.vio.frontend.groups.turned_min_support,
                   "with --images: a flag on a track static in its last --group-turned-tests tests needs this many "
                   "other flags near it")->check(CLI::Range(0, 1000))->capture_default_str();

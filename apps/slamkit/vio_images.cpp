@@ -76,7 +76,7 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
   if (!o.feature_log.empty()) {
     feature_log.open(o.feature_log);
     if (!feature_log) throw InputError(o.feature_log, 0, "feature_log", "cannot write the file");
-    feature_log << "frame,id,u,v,u_then,v_then,baseline,motion,distance_px,distance_1_px,hits,checks,truth,object_distance_m,scene_range_m,isolated\n";
+    feature_log << "frame,id,u,v,u_then,v_then,baseline,motion,distance_px,distance_1_px,hits,checks,truth,object_distance_m,scene_range_m,isolated,graced\n";
     feature_log.precision(9);
     // scene_range_m: the true range of the ray through the feature at frame k (the renderer's nearest hit).
     vo.on_scored = [&feature_log, &sim, &renderer](std::size_t k, const FrontendFeature& f, int truth, double d) {
@@ -84,7 +84,8 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
       const RayHit hit = renderer.cast(frame.t, frame_camera_pose(sim, frame), f.uv);
       feature_log << k << ',' << f.id << ',' << f.uv.x() << ',' << f.uv.y() << ',' << f.uv_then.x() << ',' << f.uv_then.y()
                   << ',' << f.baseline << ',' << to_string(f.motion) << ',' << f.distance_px << ',' << f.distance_1_px << ',' << f.hits << ','
-                  << f.checks << ',' << truth << ',' << d << ',' << (hit.hit ? hit.distance : std::nan("")) << ',' << (f.isolated ? 1 : 0) << '\n';
+                  << f.checks << ',' << truth << ',' << d << ',' << (hit.hit ? hit.distance : std::nan(""))
+                  << ',' << (f.isolated ? 1 : 0) << ',' << (f.graced ? 1 : 0) << '\n';
     };
   }
   VisualInertialSim tracked = track_images(sim, source, walker_speeds(scene), walker_distances(scene, sim), vo, &report,
@@ -156,6 +157,8 @@ VisualInertialSim image_vio_run(const VioImageCliOptions& o, nlohmann::json* fro
                {"contests_lost", report.contests_lost},
                {"young_trust_majority", o.vio.frontend.young_trust_majority},
                {"trust_undecided_frames", report.trust_undecided_frames},
+               {"mover_grace_claims", o.vio.frontend.mover_grace_claims},
+               {"graced_flags", report.graced_flags},
                {"group_turned_min_support", o.vio.frontend.groups.turned_min_support},
                {"group_turned_static_tests", o.vio.frontend.groups.turned_static_tests},
                {"frames_too_few_matches", report.frames_too_few_matches},

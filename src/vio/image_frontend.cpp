@@ -34,6 +34,8 @@ ImageFrontend::ImageFrontend(ImageFrontendOptions options, std::shared_ptr<const
   if (!(options_.min_patch_ncc_first <= 1.0)) throw std::invalid_argument("ImageFrontend: min_patch_ncc_first must be <= 1");
   if (!(options_.min_patch_ncc_baseline <= 1.0))
     throw std::invalid_argument("ImageFrontend: min_patch_ncc_baseline must be <= 1");
+  if (options_.mover_grace_claims < 0 || options_.mover_grace_claims > 1000)
+    throw std::invalid_argument("ImageFrontend: mover_grace_claims must be in 0..1000");
   if (options_.consistency_hits < 1 || options_.consistency_hits > options_.consistency_checks)
     throw std::invalid_argument("ImageFrontend: consistency_hits must be in 1..consistency_checks");
   check_epipolar_search_options(options_.epipolar_search);
@@ -251,6 +253,10 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     const int n = std::min(h.count, options_.consistency_checks);
     f.checks = n, f.hits = 0;
     for (int i = 0; i < n; ++i) f.hits += (h.over >> i) & 1;
+    // A confirmed mover's dip: flagged in this frame by its run of claims (see the header).
+    const int grace = options_.mover_grace_claims;
+    if (grace > 0 && f.motion == FeatureMotion::kStatic && h.claim_run >= grace)
+      f.motion = FeatureMotion::kDynamic, f.graced = true, ++out.n_graced;
     tests.emplace(f.id, h);
     turned[i] = was_static && f.motion == FeatureMotion::kDynamic;
     if (options_.sticky_dynamic && flagged_dynamic_.count(f.id)) f.motion = FeatureMotion::kDynamic;
@@ -276,7 +282,13 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
         if (flags[i] == FeatureMotion::kDynamic && !isolated[i]) isolated[i] = 1, ++out.n_isolated;
     }
   }
-  for (std::size_t i = 0; i < out.features.size(); ++i) out.features[i].isolated = isolated[i] != 0;
+  for (std::size_t i = 0; i < out.features.size(); ++i) {
+    FrontendFeature& f = out.features[i];
+    f.isolated = isolated[i] != 0;
+    TestHistory& h = tests_.at(f.id);  // every current id has its entry (above)
+    const bool claimed = f.motion == FeatureMotion::kDynamic && !f.isolated && !f.graced;
+    h.claim_run = claimed ? std::min(h.claim_run + 1, 1 << 20) : 0;
+  }
   for (const FrontendFeature& f : out.features) {
     if (f.motion == FeatureMotion::kStatic) ++out.n_static;
     else if (f.motion == FeatureMotion::kDynamic) out.n_dynamic += f.isolated ? 0 : 1;

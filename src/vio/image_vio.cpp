@@ -210,6 +210,7 @@ VisualInertialSim track_images(const VisualInertialSim& sim, const FrameImageSou
       r.isolated_flags += f.n_isolated;
       r.contests_lost += f.n_contests_lost;
       r.trust_undecided_frames += f.trust_undecided;
+      r.graced_flags += f.n_graced;
       r.frames_no_fundamental += f.status == ClassificationStatus::kNoFundamental;
       r.frames_static_camera += f.status == ClassificationStatus::kStaticCamera;
       if (f.status == ClassificationStatus::kEpipolar) {

@@ -61,7 +61,7 @@ PY
 [[ $? -eq 2 ]] && grep -q -- "--rotation-prior-sigma" "$work/e8.txt" || fail "--rotation-prior-sigma -1: $(cat "$work/e8.txt")"
 # A KLT window or scoring patch out of range, or an RLOF switch other than on/off, is a usage error
 # (exit 2) naming the option.
-for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe" "--dvi-startup maybe" "--max-rotation-rms -1" "--max-rotation-rms nan" "--max-scale-sigma -1" "--affine-realign maybe" "--affine-refit maybe" "--affine-static-ratio 2" "--affine-static-ratio 0" "--affine-min-correlation nan" "--group-support -1" "--group-radius 0" "--group-radius nan" "--trust-contest -1" "--trust-contest nan" "--trust-contest-frames -2" "--klt-levels 9" "--group-turned-support -1" "--group-turned-tests 0" "--young-trust-majority maybe"; do
+for bad in "--klt-window 2" "--score-patch-half -2" "--rlof-refine maybe" "--dvi-startup maybe" "--max-rotation-rms -1" "--max-rotation-rms nan" "--max-scale-sigma -1" "--affine-realign maybe" "--affine-refit maybe" "--affine-static-ratio 2" "--affine-static-ratio 0" "--affine-min-correlation nan" "--group-support -1" "--group-radius 0" "--group-radius nan" "--trust-contest -1" "--trust-contest nan" "--trust-contest-frames -2" "--klt-levels 9" "--group-turned-support -1" "--group-turned-tests 0" "--young-trust-majority maybe" "--mover-grace -1"; do
   # shellcheck disable=SC2086
   "$slamkit" vio --sim room1 --duration 1 --images --data "$data" $bad >"$work/e9.txt" 2>&1
   [[ $? -eq 2 ]] && grep -q -- "${bad%% *}" "$work/e9.txt" || fail "$bad: $(cat "$work/e9.txt")"
@@ -88,6 +88,8 @@ for j in (on, off):
     # Session 38: turned flags need two supporters; young trust without a majority claims no mover.
     assert j["group_turned_min_support"] == 2 and j["group_turned_static_tests"] == 2, j
     assert j["young_trust_majority"] is True and j["trust_undecided_frames"] >= 0, j
+    # Session 39: a claimed mover keeps its flag through one dip.
+    assert j["mover_grace_claims"] == 3 and j["graced_flags"] >= 0, j
 PY
 # An unknown name, a run too short to initialize, a calibration file without a needed field.
 "$slamkit" vio --sim room9 --data "$data" >"$work/e3.txt" 2>&1

@@ -38,6 +38,12 @@
 // its flags are isolated (left out of the estimator, not counted as dynamic). A young trusted set
 // may itself be one mover's (the contest hands it over only once the other side is that much
 // larger), so until one side is that much larger the frame cannot tell which side moves.
+// A confirmed mover's dip (mover_grace_claims, session 39): a track claimed as a mover (flagged, not
+// isolated) in each of its last n frames keeps its flag through one test under the threshold
+// (FrontendFeature::graced). A walker's epipolar distance dips whenever its motion runs along the
+// epipolar line for a frame; a static track flagged by noise or a slip is rarely claimed n times running.
+// The graced flag is a flag like any other (the group rules apply); it does not extend the run, so
+// the next dip needs n claims of the track's own.
 // Epipolar re-search (epipolar_search): each test's dynamic flags are re-searched along the
 // epipolar line in that test's frame pair; a re-found feature is static and its track moves.
 // Affine re-alignment (affine_realign): each test's dynamic flags get their patch of frame t − b
@@ -117,6 +123,9 @@ struct ImageFrontendOptions {
   /// Within trust_contest_frames of a cold start, a frame's flags claim movers only if its static
   /// features number at least trust_contest_ratio × its flags; otherwise they are isolated.
   bool young_trust_majority = true;
+  /// A track claimed as a mover in each of its last this many frames keeps its flag through one test
+  /// under the threshold (FrontendFeature::graced); 0: off.
+  int mover_grace_claims = 3;
   /// Before a test's dynamic flag counts, the feature is re-searched along its epipolar line in
   /// the frame pair of that test (feature_epipolar_search.h); re-found: static, and the track moves
   /// to the re-found pixel.
@@ -143,6 +152,9 @@ struct FrontendFeature {
   /// motion == kDynamic with no other flag within the group radius (ImageFrontendOptions::groups): an
   /// unreliable track, not a moving object; left out of the estimator like a dynamic one.
   bool isolated = false;
+  /// Flagged by mover_grace_claims: this frame's test was under the threshold, but the track was claimed
+  /// as a mover in each of its last mover_grace_claims frames (motion is kDynamic).
+  bool graced = false;
   int hits = 0;      ///< tests over the threshold among the track's last consistency_checks
   int checks = 0;    ///< tests kept (≤ consistency_checks)
 };
@@ -160,6 +172,7 @@ struct FrontendFrameResult {
   int n_refits_affine = 0;        ///< tests whose model was fitted again after the re-alignment
   int n_isolated = 0;             ///< dynamic flags without a flagged neighbour (groups): not counted as dynamic
   int n_contests_lost = 0;        ///< tests whose trusted model gave way to the model of the tracks it flagged
+  int n_graced = 0;               ///< flags kept through a test under the threshold (mover_grace_claims)
   /// Young trust without a majority (young_trust_majority): this frame's flags are all isolated.
   bool trust_undecided = false;
   /// Status of the longest baseline run this frame (kTooFewMatches when none could run).
@@ -203,6 +216,7 @@ class ImageFrontend {
     std::uint16_t over = 0;
     int count = 0;
     bool dynamic = false;  ///< the rule's last decision
+    int claim_run = 0;     ///< frames in a row up to the last one claimed as a mover (flagged, not isolated, not graced)
   };
   std::unordered_map<std::int64_t, TestHistory> tests_;
   /// min_patch_ncc_first: each live track's patch at its detection (a crop, `centre` = its pixel in it).

@@ -61,6 +61,7 @@ struct ImageVioReport {
   std::size_t realigned_affine = 0, unflagged_affine = 0, refits_affine = 0;  ///< ImageFrontendOptions::affine_realign's counts
   std::size_t contests_lost = 0;   ///< tests whose trusted model gave way (ImageFrontendOptions::trust_contest_ratio)
   std::size_t isolated_flags = 0;  ///< isolated dynamic flags (ImageFrontendOptions::groups): left out, scored as not dynamic
+  std::size_t graced_flags = 0;  ///< flags kept through a test under the threshold (ImageFrontendOptions::mover_grace_claims)
   std::size_t trust_undecided_frames = 0;  ///< frames whose flags were all isolated (ImageFrontendOptions::young_trust_majority)
   std::size_t frames_too_few_matches = 0, frames_no_fundamental = 0, frames_static_camera = 0;
   /// Frames by the motion model of their longest test (DynamicFeatureFilter's MotionModel, status kEpipolar).
