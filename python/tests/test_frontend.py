@@ -165,6 +165,13 @@ def test_epipolar_search_options():
         sk.ImageFrontend(epipolar_search=True, epipolar_search_ncc_drop=-1.0)
 
 
+def basketball_pair():
+    """The two basketball frames (players moving, camera still), or a skip without the data."""
+    require_data("vio/dynamic_video")
+    d = data_root() / "vio" / "dynamic_video"
+    return sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+
+
 def check_options(defaults, changed, bad):
     """FrontendOptions: the defaults, the changed values through ImageFrontend and repr, and the
     bad values (field, value, message) raising ValueError."""
@@ -189,9 +196,7 @@ def test_affine_realign_options():
 
 
 def test_affine_realign_counts_on_a_real_pair():
-    require_data("vio/dynamic_video")
-    d = data_root() / "vio" / "dynamic_video"
-    a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+    a, b = basketball_pair()
     frames = {}
     for mode in ("off", "on", "refit"):
         f = sk.ImageFrontend(baseline_frames=1, affine_realign=mode != "off", affine_refit_model=mode == "refit",
@@ -227,9 +232,7 @@ def test_turned_flag_and_young_trust_options():
 
 
 def test_young_trust_without_a_majority_claims_no_mover():
-    require_data("vio/dynamic_video")
-    d = data_root() / "vio" / "dynamic_video"
-    a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+    a, b = basketball_pair()
     frames = {}
     # The second frame is young trust (one frame after the cold start); with a ratio above
     # static / flags no side has the majority, so every flag is isolated; with the rule off they stand.
@@ -244,9 +247,7 @@ def test_young_trust_without_a_majority_claims_no_mover():
 
 
 def test_group_rule_marks_isolated_flags_on_a_real_pair():
-    require_data("vio/dynamic_video")
-    d = data_root() / "vio" / "dynamic_video"
-    a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+    a, b = basketball_pair()
     frames = {}
     for support in (0, 1):
         f = sk.ImageFrontend(baseline_frames=1, group_min_support=support)
@@ -310,9 +311,7 @@ def test_mover_grace_option():
 
 
 def test_a_claimed_mover_keeps_its_flag_through_one_dip():
-    require_data("vio/dynamic_video")
-    d = data_root() / "vio" / "dynamic_video"
-    a, b = sk.read_gray_image(str(d / "basketball1.png")), sk.read_gray_image(str(d / "basketball2.png"))
+    a, b = basketball_pair()
     # a, b, a, b: the players move back and forth (three tests in a row claim them); b again: nothing
     # moves, every test is under the threshold. With grace the tracks claimed three times keep their flag.
     # (Back and forth the flags nearly match the static features: the young-trust rule is left out.)
