@@ -238,6 +238,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   tests.reserve(out.features.size());
   std::unordered_set<std::int64_t> still;
   std::vector<char> turned(out.features.size(), 0);  // flagged after turned_static_tests static tests (groups)
+  std::vector<TestHistory*> history(out.features.size());  // each feature's entry in `tests` (stable nodes)
   const int turned_tests = options_.groups.turned_static_tests;  // 1..16 (checked)
   for (std::size_t i = 0; i < out.features.size(); ++i) {
     FrontendFeature& f = out.features[i];
@@ -257,7 +258,7 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
     const int grace = options_.mover_grace_claims;
     if (grace > 0 && f.motion == FeatureMotion::kStatic && h.claim_run >= grace)
       f.motion = FeatureMotion::kDynamic, f.graced = true, ++out.n_graced;
-    tests.emplace(f.id, h);
+    history[i] = &tests.emplace(f.id, h).first->second;
     turned[i] = was_static && f.motion == FeatureMotion::kDynamic;
     if (options_.sticky_dynamic && flagged_dynamic_.count(f.id)) f.motion = FeatureMotion::kDynamic;
     if (f.motion == FeatureMotion::kDynamic) still.insert(f.id);
@@ -285,9 +286,8 @@ FrontendFrameResult ImageFrontend::process(const GrayImage& frame, const Eigen::
   for (std::size_t i = 0; i < out.features.size(); ++i) {
     FrontendFeature& f = out.features[i];
     f.isolated = isolated[i] != 0;
-    TestHistory& h = tests_.at(f.id);  // every current id has its entry (above)
     const bool claimed = f.motion == FeatureMotion::kDynamic && !f.isolated && !f.graced;
-    h.claim_run = claimed ? std::min(h.claim_run + 1, 1 << 20) : 0;
+    history[i]->claim_run = claimed ? std::min(history[i]->claim_run + 1, 1 << 20) : 0;
   }
   for (const FrontendFeature& f : out.features) {
     if (f.motion == FeatureMotion::kStatic) ++out.n_static;
