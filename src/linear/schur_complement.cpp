@@ -54,14 +54,44 @@ __attribute__((target_clones("avx512f", "default"))) void back_substitute_93(
         tail[c] += w[c * ld + 8] * x[8];
       }
     }
+    // Lane sums of the three accumulators at once, in the tree ((0+1)+(2+3))+((4+5)+(6+7)) of each:
+    // pairs of A, B side by side, C's pairs beside them, then the halves.
+    typedef long long I8 __attribute__((vector_size(64)));
+    const V8 p = __builtin_shuffle(acc[0], acc[1], I8{0, 8, 2, 10, 4, 12, 6, 14}) +
+                 __builtin_shuffle(acc[0], acc[1], I8{1, 9, 3, 11, 5, 13, 7, 15});  // a01 b01 a23 b23 a45 b45 a67 b67
+    const V8 pc = acc[2] + __builtin_shuffle(acc[2], I8{1, 0, 3, 2, 5, 4, 7, 6});  // c01 · c23 · c45 · c67 ·
+    const V8 q = __builtin_shuffle(p, pc, I8{0, 1, 8, 8, 4, 5, 12, 12}) +
+                 __builtin_shuffle(p, pc, I8{2, 3, 10, 10, 6, 7, 14, 14});  // a0-3 b0-3 c0-3 · a4-7 b4-7 c4-7 ·
+    const V8 sum = q + __builtin_shuffle(q, I8{4, 5, 6, 7, 0, 1, 2, 3});    // lanes 0..2: the sums of A, B, C
     double t[3];
-    for (int c = 0; c < 3; ++c) {
-      const V8& a = acc[c];
-      t[c] = in_e[3 * e + c] - ((((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))) + tail[c]);
-    }
+    for (int c = 0; c < 3; ++c) t[c] = in_e[3 * e + c] - (sum[c] + tail[c]);
     const double* ci = cinv + cinv_off[e];  // C_e⁻¹, column-major 3×3
     for (int r = 0; r < 3; ++r) out_e[3 * e + r] = ci[r] * t[0] + ci[3 + r] * t[1] + ci[6 + r] * t[2];
   }
+}
+// The reduced rhs of one camera column s for 9×3 blocks, t in [t_begin, t_end) (s's points in
+// order): r −= E_se y_e, y_e = C_e⁻¹ b_e stored right after C_e⁻¹. Rows 0..7 on eight lanes,
+// row 8 apart, in the association Eigen's product gives (rows 0..7: r − ((a + b) + c); row 8, its
+// scalar redux: r − (a + (b + c))), so both clones give the bits of the Eigen expression.
+__attribute__((target_clones("avx512f", "default"))) void reduced_rhs_93(
+    int t_begin, int t_end, const double* h, const int* k_elim, const int* k_slot, const std::ptrdiff_t* e_off,
+    const int* e_ld, const double* cinv, const std::ptrdiff_t* cinv_off, double* r) {
+  typedef double V8 __attribute__((vector_size(64)));
+  typedef double V8u __attribute__((vector_size(64), aligned(8), may_alias));
+  V8 r8 = *reinterpret_cast<const V8u*>(r);
+  double r9 = r[8];
+  for (int t = t_begin; t < t_end; ++t) {
+    const int e = k_elim[t], ld = e_ld[e];
+    const double* w = h + e_off[k_slot[t]];
+    const double* y = cinv + cinv_off[e] + 9;
+    const V8 a = *reinterpret_cast<const V8u*>(w) * y[0];
+    const V8 b = *reinterpret_cast<const V8u*>(w + ld) * y[1];
+    const V8 c = *reinterpret_cast<const V8u*>(w + 2 * ld) * y[2];
+    r8 = r8 - ((a + b) + c);
+    r9 = r9 - (w[8] * y[0] + (w[ld + 8] * y[1] + w[2 * ld + 8] * y[2]));
+  }
+  *reinterpret_cast<V8u*>(r) = r8;
+  r[8] = r9;
 }
 #pragma GCC pop_options
 
@@ -224,12 +254,17 @@ struct SchurComplementSolver::Impl {
       else
         D += CMap<KD, KD>(H() + x.off, di, ds, Eigen::OuterStride<>(x.ld));
     }
+    // 9×3 blocks: the rhs on eight lanes (same bits), before S's products read the same blocks.
+    constexpr bool lanes = KD == 9 && ED == 3;
+    if (lanes && rhs)
+      reduced_rhs_93(k_ptr[s], k_ptr[s + 1], H(), k_elim.data(), k_slot.data(), e_off.data(), e_diag_ld.data(),
+                     cinv.data(), cinv_off.data(), r.data());
     for (int t = k_ptr[s]; t < k_ptr[s + 1]; ++t) {
       const int e = k_elim[t], de = ed[e], ld = e_diag_ld[e];
       const CMap<KD, ED> Ese(H() + e_off[k_slot[t]], ds, de, Eigen::OuterStride<>(ld));
       const CMap<ED, ED> Ci(cinv.data() + cinv_off[e], de, de, Eigen::OuterStride<>(de));
       const Eigen::Matrix<double, ED, KD> F = Ci.lazyProduct(Ese.transpose());
-      if (rhs) r.noalias() -= Ese * CVec<ED>(cinv.data() + cinv_off[e] + de * de, de);
+      if (!lanes && rhs) r.noalias() -= Ese * CVec<ED>(cinv.data() + cinv_off[e] + de * de, de);
       for (int q = e_ptr[e]; q < e_ptr[e + 1]; ++q) {
         const int i = e_kept[q];
         if (i < s) continue;
