@@ -1,28 +1,29 @@
 // The phases of one slamkit BA iteration against one bare factorization of the same reduced
 // system, in CPU time of the calling thread (1 thread: less sensitive to the load of a shared
-// machine than wall time), at the start point with λ = 1e-4 (LM's first step).
+// machine than wall time; --threads N > 1: wall time on a pool of N threads, the setting of the
+// Ceres comparison), at the start point with λ = 1e-4 (LM's first step).
 //   Isolated phases (medians of --reps): linearize (residuals, Jacobians, C/W/B, g), cost (a
 //   candidate, no Jacobians), factorize (plain factorize(H): C⁻¹, S formed, factorized; PCG:
 //   its preconditioner), solve plain (PCG only: rhs, CG, back-substitution), factorize with rhs
 //   (the LM's call: the reduced rhs formed alongside S), solve (S⁻¹ or PCG, back-substitution),
 //   back-substitute (the points' rows alone), quadratic (δᵀHδ), retract. The "excess" line splits
 //   iteration − bare into its phases, the fused pass beside its isolated parts.
-//   Paired: bare (factorize(H), + one plain solve for PCG) and one accepted LM iteration timed
-//   as a whole (damp, factorize with rhs, reduced solve, back-substitution + retract + the
-//   candidate's linearization in one point pass, predicted reduction) alternate, bare, iteration, bare, ... on the same
-//   solver object; per pair the ratio iteration / bare; reported: the median of the ratios and
-//   the medians of each. Inside the iteration each phase is timed too ("in context"): the
-//   phases cover the iteration ("unexplained" = iteration − Σ timed phases, the time between
-//   the probes, ≈ 0), so an excess shows up in a named phase, and in-context against isolated
-//   medians shows what the iteration's memory state costs each phase. The untimed-in-the-pair
-//   relinearization at x after each pair is timed apart ("relinearize"): fused pass − it, per
-//   pair, is the back-substitution's and retraction's share of the fused pass at that moment.
-//   Every phase also reports
-//   its minor page faults (getrusage, this thread).
+//   Paired: bare (factorize(H), + one plain solve for PCG) and one accepted LM iteration timed as a
+//   whole (damp, factorize with rhs, reduced solve, back-substitution + retract + the candidate's
+//   linearization in one point pass, predicted reduction, the loop's checks and norms) alternate,
+//   bare, iteration, bare, ... on the same solver object; per pair the ratio iteration / bare;
+//   reported: the median of the ratios and the medians of each. Inside the iteration each phase is
+//   timed too ("in context"): the phases cover the iteration ("unexplained" = iteration − Σ timed
+//   phases, the time between the probes, ≈ 0), so an excess shows up in a named phase, and
+//   in-context against isolated medians shows what the iteration's memory state costs each phase.
+//   The untimed-in-the-pair relinearization at x after each pair is timed apart ("relinearize"):
+//   fused pass − it, per pair, is the back-substitution's and retraction's share of the fused pass
+//   at that moment. Every phase also reports its minor page faults (getrusage, this thread).
 // Then (unless --lm 0) full LM runs, 1 thread: schur-dense, schur-cholesky, and schur-pcg under
 // the old PCG stopping rule (relative residual 0.1 only) and the current one (Nash-Sofer 0.1):
 // iterations, linear solves, CG iterations, final cost, CPU seconds.
-//   ba_peer_phases [--only SUBSTRING] [--lm 0|1] [--reps 21] [--large 0|1] [--large-reps N] [--out FILE]
+//   ba_peer_phases [--only SUBSTRING] [--lm 0|1] [--reps 21] [--large 0|1] [--large-reps N] [--threads N]
+//                  [--out FILE]
 // --large 1 adds sim:ba 2,000 cameras / 500,000 points (schur-cholesky and schur-pcg; not in the LM runs).
 #include <sys/resource.h>
 #include <time.h>
@@ -46,13 +47,15 @@ using namespace slamkit;
 namespace {
 
 struct Probe {
-  double cpu_s;
+  double cpu_s;  // CPU seconds of the calling thread, or wall seconds with --threads > 1
   long minflt;
 };
 
+bool g_wall = false;  // --threads > 1: wall time (the workers' CPU time is not the caller's)
+
 Probe probe() {
   timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  clock_gettime(g_wall ? CLOCK_MONOTONIC : CLOCK_THREAD_CPUTIME_ID, &t);
   rusage u{};
   getrusage(RUSAGE_THREAD, &u);
   return {t.tv_sec + 1e-9 * t.tv_nsec, u.ru_minflt};
@@ -91,12 +94,15 @@ Phase measure(const std::function<void()>& fn, int reps) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string only, lm = "1", reps_s = "21", large = "0", large_reps_s = "",
+  std::string only, lm = "1", reps_s = "21", large = "0", large_reps_s = "", threads_s = "1",
                     out = std::string(SLAMKIT_SOURCE_DIR) + "/bench/results/ba_peer_phases.json";
-  if (!bench::parse_options(argc, argv, "[--only SUBSTRING] [--lm 0|1] [--reps N] [--large 0|1] [--large-reps N] [--out FILE]",
+  if (!bench::parse_options(argc, argv,
+                            "[--only SUBSTRING] [--lm 0|1] [--reps N] [--large 0|1] [--large-reps N] [--threads N] [--out FILE]",
                             {{"--only", &only}, {"--lm", &lm}, {"--reps", &reps_s}, {"--large", &large},
-                             {"--large-reps", &large_reps_s}, {"--out", &out}}))
+                             {"--large-reps", &large_reps_s}, {"--threads", &threads_s}, {"--out", &out}}))
     return 2;
+  const int threads = std::max(1, std::stoi(threads_s));
+  g_wall = threads > 1;
   const int base_reps = std::max(1, std::stoi(reps_s));
   const int large_reps = large_reps_s.empty() ? base_reps : std::max(1, std::stoi(large_reps_s));
   const auto bal = bench::data_root() / "bal";
@@ -117,9 +123,10 @@ int main(int argc, char** argv) {
     if (!only.empty() && name.find(only) == std::string::npos) continue;
     const int reps = name == large_name ? large_reps : base_reps;
     const BalProblem p = make();
-    std::printf("== %s: %d cameras, %d points, %d observations (CPU ms, 1 thread, %d reps)\n", name.c_str(),
-                p.num_cameras(), p.num_points(), p.num_observations(), reps);
-    const ThreadPool pool(1);
+    std::printf("== %s: %d cameras, %d points, %d observations (%s ms, %d thread%s, %d reps)\n", name.c_str(),
+                p.num_cameras(), p.num_points(), p.num_observations(), g_wall ? "wall" : "CPU", threads,
+                threads > 1 ? "s" : "", reps);
+    const ThreadPool pool(threads);
     BalNormalEquations ne(p, nullptr, pool);
     const BalState x = make_bal_state(p);
     BalState y;
@@ -154,6 +161,8 @@ int main(int argc, char** argv) {
       // it), the predicted reduction (−gᵀδ + λδᵀDδ + x_kᵀr_k, no pass over H); each phase timed
       // in context. After each pair H is re-linearized at x, untimed.
       Phase bare, iteration, relin;
+      Eigen::VectorXd D_next(D.size());
+      const int nk = ne.dim() - 3 * ne.num_points();
       std::vector<double> fused_minus_lin;
       std::map<std::string, Phase> ctx;
       std::vector<double> ratios, unexplained;
@@ -163,7 +172,7 @@ int main(int argc, char** argv) {
         if (pcg) solver.solve(rhs.data(), step.data());
         const Probe b1 = probe();
         bare.add(b0, b1);
-        Probe t[6];
+        Probe t[7];
         t[0] = probe();
         ne.set_diagonal_damping(lambda, D, false);
         rhs = -ne.gradient();
@@ -178,15 +187,23 @@ int main(int argc, char** argv) {
                                     solver.last_residual_dot_solution();
         (void)predicted;
         t[5] = probe();
-        iteration.add(t[0], t[5]);
-        const char* names[5] = {"damp", "factorize_with_rhs", "solve_kept", "backsub_retract_linearize", "predicted"};
+        // The loop's checks and norms (optimize_bundle_adjustment's LM): the scaling D of the next
+        // step, the step finite, its norm and x's (parameter tolerance), the gradient's max-norm.
+        D_next = ne.hessian_diagonal().cwiseMax(1e-6).cwiseMin(1e32);
+        volatile double checks = static_cast<double>(step.tail(nk).allFinite() && step.allFinite()) + step.norm() +
+                                 BalNormalEquations::parameter_norm(x) + ne.gradient().lpNorm<Eigen::Infinity>();
+        (void)checks;
+        t[6] = probe();
+        iteration.add(t[0], t[6]);
+        const char* names[6] = {"damp", "factorize_with_rhs", "solve_kept", "backsub_retract_linearize", "predicted",
+                                "checks"};
         double sum = 0.0;
-        for (int k = 0; k < 5; ++k) {
+        for (int k = 0; k < 6; ++k) {
           ctx[names[k]].add(t[k], t[k + 1]);
           sum += t[k + 1].cpu_s - t[k].cpu_s;
         }
-        unexplained.push_back((t[5].cpu_s - t[0].cpu_s) - sum);
-        ratios.push_back((t[5].cpu_s - t[0].cpu_s) / (b1.cpu_s - b0.cpu_s));
+        unexplained.push_back((t[6].cpu_s - t[0].cpu_s) - sum);
+        ratios.push_back((t[6].cpu_s - t[0].cpu_s) / (b1.cpu_s - b0.cpu_s));
         // H, g back at x for the next pair: not part of the pair, but timed as "relinearize": a plain
         // linearization in the same memory state as the fused pass just before it, so
         // fused − relinearize (per pair) is what the back-substitution and retraction add to it.
@@ -202,21 +219,21 @@ int main(int argc, char** argv) {
                   1e3 * iso["factorize_with_rhs"].med(), 1e3 * iso["solve"].med(),
                   pcg ? (" solve plain " + std::to_string(1e3 * iso["solve_plain"].med())).c_str() : "");
       std::printf("  %-15s in context: damp %5.2f  factorize with rhs %7.2f  solve kept %6.2f  back-sub+retract+"
-                  "linearize %7.2f  predicted %5.2f  unexplained %5.2f  (faults: lin %.0f fact %.0f)\n",
+                  "linearize %7.2f  predicted %5.2f  checks %5.2f  unexplained %5.2f  (faults: lin %.0f fact %.0f)\n",
                   "", 1e3 * ctx["damp"].med(), 1e3 * ctx["factorize_with_rhs"].med(), 1e3 * ctx["solve_kept"].med(),
-                  1e3 * ctx["backsub_retract_linearize"].med(), 1e3 * ctx["predicted"].med(),
+                  1e3 * ctx["backsub_retract_linearize"].med(), 1e3 * ctx["predicted"].med(), 1e3 * ctx["checks"].med(),
                   1e3 * median(unexplained), median(ctx["backsub_retract_linearize"].faults),
                   median(ctx["factorize_with_rhs"].faults));
       // Where the iteration's time beyond bare goes (medians): the factorization with the rhs
       // against bare, the reduced solve, and the fused pass against its isolated parts.
       // (bare holds PCG's solve: the reduced system's share is factorize with rhs + solve kept − bare.)
       std::printf("  %-15s excess over bare %5.2f: reduced system (factorize with rhs + solve kept) - bare %5.2f  "
-                  "fused pass %5.2f (isolated: linearize %5.2f  back-substitute %5.2f  retract %5.2f)  damp + predicted %5.2f\n",
+                  "fused pass %5.2f (isolated: linearize %5.2f  back-substitute %5.2f  retract %5.2f)  damp + predicted + checks %5.2f\n",
                   "", 1e3 * (iteration.med() - bare.med()),
                   1e3 * (ctx["factorize_with_rhs"].med() + ctx["solve_kept"].med() - bare.med()),
                   1e3 * ctx["backsub_retract_linearize"].med(), 1e3 * lin.med(),
                   1e3 * iso["back_substitute"].med(), 1e3 * iso["retract"].med(),
-                  1e3 * (ctx["damp"].med() + ctx["predicted"].med()));
+                  1e3 * (ctx["damp"].med() + ctx["predicted"].med() + ctx["checks"].med()));
       std::printf("  %-15s fused pass against a plain linearization right after it: relinearize %5.2f  "
                   "fused - relinearize (median of pairs) %5.2f\n",
                   "", 1e3 * relin.med(), 1e3 * median(fused_minus_lin));
@@ -272,8 +289,10 @@ int main(int argc, char** argv) {
                          {"termination", to_string(sm.termination)}});
     }
   }
-  std::ofstream(out) << nlohmann::json{{"clock", "thread CPU time, 1 thread; bare and iteration interleaved, "
-                                                 "medians of " + std::to_string(base_reps) + " reps"},
+  const std::string clock = g_wall ? "wall time, " + std::to_string(threads) + " threads" : "thread CPU time, 1 thread";
+  std::ofstream(out) << nlohmann::json{{"clock", clock + "; bare and iteration interleaved, medians of " +
+                                                     std::to_string(base_reps) + " reps"},
+                                       {"threads", threads},
                                        {"phases", results},
                                        {"lm_runs", lm_runs}}
                             .dump(2)
