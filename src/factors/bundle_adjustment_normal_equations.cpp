@@ -136,6 +136,8 @@ struct LaneFrame4 {
 // (the cameras' frames in, W and the C_j terms out), which move bits and round nothing; every
 // sum runs in the scalar code's order: the same bits as one observation at a time.
 // Returns sum + Σ ρ(‖r‖²) in point order.
+#pragma GCC diagnostic push  // GCC 12 warns of X, z "maybe uninitialized" in the avx2 clone: a false alarm
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 __attribute__((target_clones("avx2", "default"))) double linearize_points4(const PassData& d, int j_begin, int j_end,
                                                                             double sum) {
   // C_j (upper triangle c00 c01 c02 c11 c12 c22) and g_j of point j: (c00 c01 c02 c11), (c12 c22 g0 g1), g2.
@@ -217,6 +219,7 @@ __attribute__((target_clones("avx2", "default"))) double linearize_points4(const
   while (j < j_end) flush();  // the last point (and any without observations)
   return sum;
 }
+#pragma GCC diagnostic pop
 
 // The same with eight observations at a time (AVX-512: L8 in zmm registers) and 8×8 transposes:
 // the same per-observation expressions and sums in the same order, so the same bits as the
