@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
       const std::vector<ImuWindow> windows = select_imu_windows(gt, imu, length, 0.1);
       Eigen::Vector3d g_fit;
       const ImuBias fitted_tilt = fit_constant_bias(imu, gt, windows, noise, g, gt_sigma, 3, &g_fit);
-      for (const std::string variant : s.euroc ? std::vector<std::string>{"gt-v:gt-bias", "fit-v:fit-bias+tilt"}
+      for (const std::string& variant : s.euroc ? std::vector<std::string>{"gt-v:gt-bias", "fit-v:fit-bias+tilt"}
                                                : std::vector<std::string>{"fit-v:fit-bias+tilt"}) {
         const bool gt_velocity = variant.rfind("gt-v", 0) == 0;
         const std::string bias_source = variant.substr(variant.find(':') + 1) == "gt-bias" ? "gt" : "fit";

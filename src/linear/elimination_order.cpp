@@ -188,7 +188,8 @@ EliminationOrder amd_after_series_reduction(int n, const std::vector<int>& col_p
 }
 #endif
 
-EliminationOrder eigen_amd(int n, const std::vector<int>& col_ptr, const std::vector<int>& rows) {
+// The ordering without CHOLMOD (kept compiled either way).
+[[maybe_unused]] EliminationOrder eigen_amd(int n, const std::vector<int>& col_ptr, const std::vector<int>& rows) {
   std::vector<double> ones(rows.size(), 1.0);
   const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::ColMajor, int>> U(n, n, static_cast<int>(rows.size()),
                                                                               col_ptr.data(), rows.data(), ones.data());

@@ -266,6 +266,13 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSumm
   summary.time_tree_s += seconds_since(t);
   const auto pairs = pose_pairs(ix);
   using Scalar1 = Eigen::Matrix<double, 1, 1>;
+  // A one-column right-hand side built as such (a 1×1 matrix converted to it draws GCC 12's
+  // false -Warray-bounds in Eigen's packet copy).
+  const auto row1 = [](double v) {
+    PoseSystem<1>::Rhs r(1, 1);
+    r(0, 0) = v;
+    return r;
+  };
   auto t_layout = std::chrono::steady_clock::now();
   const PoseLayout layout = pose_layout(ix, pairs, o);
   summary.time_analyze_s += seconds_since(t_layout);
@@ -280,8 +287,8 @@ void linear_2d(PoseGraph& g, const PoseIndex& ix, const InitOptions& o, InitSumm
     // Marginal information of θ: 1 / (Ω⁻¹)_θθ.
     const Eigen::Matrix3d omega = edge.information.topLeftCorner<3, 3>();
     const double w = 1.0 / omega.inverse()(2, 2);
-    theta_sys.add(a, Scalar1(-1.0), b, Scalar1(1.0), Scalar1(delta + 2.0 * kPi * wraps), Scalar1(w),
-                  Scalar1(tree_theta[a]), Scalar1(tree_theta[b]));
+    theta_sys.add(a, Scalar1(-1.0), b, Scalar1(1.0), row1(delta + 2.0 * kPi * wraps), Scalar1(w), row1(tree_theta[a]),
+                  row1(tree_theta[b]));
   }
   summary.time_assemble_s += seconds_since(t);
   const Eigen::MatrixXd theta = theta_sys.solve();
