@@ -214,7 +214,7 @@ std::vector<int> associate_landmarks(const std::vector<RangeBearing>& obs, const
   std::vector<PredictedMeasurement> pred;
   std::vector<Eigen::Matrix<double, 2, 5>> jac;  // [H_x H_m] per prediction
   if (o.method == AssociationMethod::kKnown) {
-    for (int id : ids) pred.push_back({id, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity()});
+    for (int id : ids) pred.push_back({id});  // z, S: the struct's defaults (unused by known association)
     std::vector<int> result = associate(obs, pred, o);
     if (o.known_gate_probability <= 0) return result;
     const double gate = chi2_quantile(o.known_gate_probability, 2);

@@ -41,6 +41,7 @@ __attribute__((target_clones("avx512f", "default"))) void back_substitute_93(
     const double* v, double* out_e) {
   typedef double V8 __attribute__((vector_size(64)));
   typedef double V8u __attribute__((vector_size(64), aligned(8), may_alias));
+  typedef long long I8 __attribute__((vector_size(64)));
   for (std::size_t e = b; e < end; ++e) {
     const int ld = e_ld[e];
     V8 acc[3] = {};
@@ -56,7 +57,6 @@ __attribute__((target_clones("avx512f", "default"))) void back_substitute_93(
     }
     // Lane sums of the three accumulators at once, in the tree ((0+1)+(2+3))+((4+5)+(6+7)) of each:
     // pairs of A, B side by side, C's pairs beside them, then the halves.
-    typedef long long I8 __attribute__((vector_size(64)));
     const V8 p = __builtin_shuffle(acc[0], acc[1], I8{0, 8, 2, 10, 4, 12, 6, 14}) +
                  __builtin_shuffle(acc[0], acc[1], I8{1, 9, 3, 11, 5, 13, 7, 15});  // a01 b01 a23 b23 a45 b45 a67 b67
     const V8 pc = acc[2] + __builtin_shuffle(acc[2], I8{1, 0, 3, 2, 5, 4, 7, 6});  // c01 · c23 · c45 · c67 ·
@@ -256,9 +256,10 @@ struct SchurComplementSolver::Impl {
     }
     // 9×3 blocks: the rhs on eight lanes (same bits), before S's products read the same blocks.
     constexpr bool lanes = KD == 9 && ED == 3;
-    if (lanes && rhs)
-      reduced_rhs_93(k_ptr[s], k_ptr[s + 1], H(), k_elim.data(), k_slot.data(), e_off.data(), e_diag_ld.data(),
-                     cinv.data(), cinv_off.data(), r.data());
+    if constexpr (lanes)
+      if (rhs)
+        reduced_rhs_93(k_ptr[s], k_ptr[s + 1], H(), k_elim.data(), k_slot.data(), e_off.data(), e_diag_ld.data(),
+                       cinv.data(), cinv_off.data(), r.data());
     for (int t = k_ptr[s]; t < k_ptr[s + 1]; ++t) {
       const int e = k_elim[t], de = ed[e], ld = e_diag_ld[e];
       const CMap<KD, ED> Ese(H() + e_off[k_slot[t]], ds, de, Eigen::OuterStride<>(ld));
