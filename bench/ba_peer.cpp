@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
                             {{"--only", &only}, {"--skip-large", &skip_large}, {"--ours", &ours_only},
                              {"--ceres", &ceres_only}, {"--bare", &bare_only}, {"--rounds", &rounds_s}, {"--out", &out}}))
     return 2;
-  const int rounds = std::max(1, std::stoi(rounds_s));
+  const int rounds = bench::int_option("--rounds", rounds_s, 1, 1000);
   auto wanted = [](const std::string& list, const std::string& name) {
     return list.empty() || ("," + list + ",").find("," + name + ",") != std::string::npos;
   };

@@ -101,10 +101,10 @@ int main(int argc, char** argv) {
                             {{"--only", &only}, {"--lm", &lm}, {"--reps", &reps_s}, {"--large", &large},
                              {"--large-reps", &large_reps_s}, {"--threads", &threads_s}, {"--out", &out}}))
     return 2;
-  const int threads = std::max(1, std::stoi(threads_s));
+  const int threads = bench::int_option("--threads", threads_s, 1, 256);
   g_wall = threads > 1;
-  const int base_reps = std::max(1, std::stoi(reps_s));
-  const int large_reps = large_reps_s.empty() ? base_reps : std::max(1, std::stoi(large_reps_s));
+  const int base_reps = bench::int_option("--reps", reps_s, 1, 100000);
+  const int large_reps = large_reps_s.empty() ? base_reps : bench::int_option("--large-reps", large_reps_s, 1, 100000);
   const auto bal = bench::data_root() / "bal";
   auto sim = [](int cameras, int points) {
     BaSimOptions o;

@@ -72,4 +72,27 @@ inline bool parse_options(int argc, char** argv, const char* usage, const std::m
   return true;
 }
 
+/// An option's value as an integer in [lo, hi], or a message naming the option and exit 2 (a
+/// bench must not abort with an uncaught std::stoi exception, nor run with a value it cannot use).
+inline int int_option(const std::string& name, const std::string& v, int lo, int hi) {
+  char* end = nullptr;
+  const long x = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0' || x < lo || x > hi) {
+    std::fprintf(stderr, "option %s: \"%s\" is not an integer in [%d, %d]\n", name.c_str(), v.c_str(), lo, hi);
+    std::exit(2);
+  }
+  return static_cast<int>(x);
+}
+
+/// An option's value as a finite number in [lo, hi], or a message naming the option and exit 2.
+inline double double_option(const std::string& name, const std::string& v, double lo, double hi) {
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !(x >= lo && x <= hi)) {
+    std::fprintf(stderr, "option %s: \"%s\" is not a number in [%g, %g]\n", name.c_str(), v.c_str(), lo, hi);
+    std::exit(2);
+  }
+  return x;
+}
+
 }  // namespace slamkit::bench

@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
   if (!bench::parse_options(argc, argv, "[--repeat 3] [--only SUBSTRING] [--out FILE]",
                             {{"--repeat", &repeat_s}, {"--only", &only}, {"--out", &out}}))
     return 2;
-  const int repeat = std::stoi(repeat_s);
+  const int repeat = bench::int_option("--repeat", repeat_s, 1, 1000);
   const auto root = bench::data_root() / "posegraph";
   if (!std::filesystem::exists(root)) {
     std::fprintf(stderr, "SKIPPED: dataset folder not found: %s\n", root.c_str());

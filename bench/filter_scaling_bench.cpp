@@ -205,14 +205,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--mode") c.mode = v;
-    else if (a == "--active") c.active = std::stoi(v);
-    else if (a == "--ekf-budget") c.ekf_budget = std::stod(v);
-    else if (a == "--steps") c.survey_steps = std::stoi(v);
+    else if (a == "--active") c.active = bench::int_option(a, v, 1, 1 << 20);
+    else if (a == "--ekf-budget") c.ekf_budget = bench::double_option(a, v, 0.0, 1e6);
+    else if (a == "--steps") c.survey_steps = bench::int_option(a, v, 1, 1 << 24);
     else if (a == "--out") out = v;
     else if (a == "--sizes" || a == "--algorithms") {
       if (a == "--sizes") c.sizes.clear(); else c.algorithms.clear();
       for (const std::string& w : split_list(v))
-        if (a == "--sizes") c.sizes.push_back(std::stoi(w)); else c.algorithms.push_back(w);
+        if (a == "--sizes") c.sizes.push_back(bench::int_option(a, w, 1, 1 << 24)); else c.algorithms.push_back(w);
     } else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;

@@ -177,8 +177,8 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--graph" && i + 1 < argc) graph_path = argv[++i];
-    else if (a == "--keyframe" && i + 1 < argc) kKeyframe = std::stod(argv[++i]);
-    else if (a == "--lag" && i + 1 < argc) g_lag = std::stod(argv[++i]);
+    else if (a == "--keyframe" && i + 1 < argc) kKeyframe = bench::double_option(a, argv[++i], 0.0, 1e6);
+    else if (a == "--lag" && i + 1 < argc) g_lag = bench::double_option(a, argv[++i], 0.0, 1e6);
     else {
       std::fprintf(stderr, "usage: mrclam_calibration [--graph FILE] [--out FILE] [--keyframe S] [--lag S]\n");
       return 2;

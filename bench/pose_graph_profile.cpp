@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
   if (!bench::parse_options(argc, argv, "[--repeat 5] [--only SUBSTRING] [--threads N] [--out FILE] [--glibc-heap]",
                             {{"--repeat", &repeat_s}, {"--only", &only}, {"--threads", &threads_s}, {"--out", &out}}))
     return 2;
-  const int repeat = std::max(1, std::stoi(repeat_s));
+  const int repeat = bench::int_option("--repeat", repeat_s, 1, 100000);
+  const int threads = bench::int_option("--threads", threads_s, 0, 256);
   const auto root = bench::data_root() / "posegraph";
   if (!std::filesystem::exists(root)) {
     std::fprintf(stderr, "SKIPPED: dataset folder not found: %s (set SLAMKIT_DATA)\n", root.c_str());
@@ -130,7 +131,7 @@ int main(int argc, char** argv) {
       PoseGraph g = read_pose_graph(path);
       const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       PoseGraphOptimizerOptions o;
-      o.optimizer.num_threads = std::stoi(threads_s);
+      o.optimizer.num_threads = threads;
       const double cpu0 = process_cpu_s();
       const Rusage u0 = Rusage::now();
       last = optimize_pose_graph(g, o);

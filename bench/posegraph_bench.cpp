@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
                             {{"--repeat", &repeat_s}, {"--configs", &configs}, {"--only", &only},
                              {"--threads", &threads_s}, {"--out", &out}}))
     return 2;
-  const int repeat = std::stoi(repeat_s), threads = std::stoi(threads_s);
+  const int repeat = bench::int_option("--repeat", repeat_s, 1, 100000),
+            threads = bench::int_option("--threads", threads_s, 0, 256);
   std::vector<Config> cfgs = {{"default (gn, auto init)", Algorithm::kGaussNewton, InitMethod::kAuto}};
   if (configs == "all") {
     for (Algorithm a : {Algorithm::kLevenbergMarquardt, Algorithm::kTrustRegionLM, Algorithm::kDogleg})

@@ -157,7 +157,7 @@ int main(int argc, char** argv) {
   if (!bench::parse_options(argc, argv, "[--budget S] [--parts budget,init,hogman,online|online-2d|online-3d] [--out FILE]",
                             {{"--budget", &budget_s}, {"--out", &out}, {"--parts", &parts}}))
     return 2;
-  const double budget = std::stod(budget_s);
+  const double budget = bench::double_option("--budget", budget_s, 0.0, 1e6);
   json j;
   j["budget_s"] = budget;
   j["machine_threads"] = 1;
